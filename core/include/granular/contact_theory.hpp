@@ -1,0 +1,47 @@
+#pragma once
+/// Closed-form results for a single binary contact under the law of design §2. Used to choose and
+/// check the time step, and by the tests as the reference the simulation must reproduce.
+#include "granular/material.hpp"
+
+namespace granular {
+
+/// Outcome of a head-on impact of two bodies (or one body on a wall) along the normal.
+struct ImpactPrediction {
+  double forceDuration = 0;    ///< time from first touch until the normal force vanishes [s]
+  double overlapDuration = 0;  ///< time from first touch until the overlap closes [s]
+  double restitution = 0;      ///< normal rebound speed / approach speed [-]
+  double peakOverlap = 0;      ///< largest overlap reached [m]
+};
+
+/// Linear spring k and dashpot c = γn·m on reduced mass m, approach speed v0 > 0, with the no-pull
+/// clamp: the force k·h + c·ḣ is zero once it would become negative. The motion is the damped
+/// oscillation h = (v0/ωd) e^(-βt) sin(ωd t) until k·h + c·ḣ = 0, then free separation at the
+/// velocity reached (no force acts, so the overlap closes at constant speed). Requires an
+/// under-damped contact (γn/2 < sqrt(k/m)); throws ConfigError otherwise.
+ImpactPrediction hookeDampedImpact(double stiffness, double normalDamping, double reducedMass,
+                                   double approachSpeed);
+
+/// Hertz F = K·h^(3/2) without damping (K = (4/3)E*·sqrt(R*) = (2/3)E/(1-ν²)·sqrt(R_ij) here):
+/// duration 3.2181·(m/K)^(2/5)·v^(-1/5) (= 2.87·(m*²/(R* E*² v))^(1/5)), peak overlap
+/// (5 m v²/(4 K))^(2/5), restitution 1.
+ImpactPrediction hertzUndampedImpact(double hertzConstant, double reducedMass,
+                                     double approachSpeed);
+
+/// The shortest contact among the pairs a scene can produce: the smallest particle against a wall
+/// and against another smallest particle (for Hooke these two have the same k/m; for Hertz the pair
+/// is shorter). For Hertz, whose duration depends on the impact speed, `impactSpeed` [m/s] is the
+/// largest approach speed expected; it is ignored for Hooke.
+struct ContactScale {
+  double duration = 0;       ///< force duration of the stiffest contact [s]
+  double radius = 0;         ///< radius of the particle in that contact [m]
+  bool againstWall = false;  ///< the stiffest contact is particle-wall (else particle-particle)
+};
+ContactScale stiffestContact(const Material& material, double smallestRadius, double impactSpeed);
+
+/// The largest time step the core accepts, as a fraction of the stiffest contact's duration.
+/// Velocity Verlet is stable below duration·2/π ≈ 0.64·duration for an undamped spring, Gear's
+/// predictor-corrector somewhat below that; 1/10 keeps a margin for both and for damping. The
+/// usual accurate range is 1/50 to 1/20.
+inline constexpr double kMaxStepFraction = 0.1;
+
+}  // namespace granular

@@ -1,0 +1,21 @@
+#pragma once
+/// Exceptions thrown by the core. The core never prints; callers decide how to report.
+#include <stdexcept>
+#include <string>
+
+namespace granular {
+
+/// A configuration the core refuses: bad parameter, unstable time step, particle outside the box.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A scene file that cannot be read or does not validate. The message names the file, the key,
+/// the value and the allowed range ("scene.toml:12:1: material.friction = -0.3: must be >= 0").
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace granular

@@ -1,0 +1,103 @@
+#pragma once
+/// A scene: everything a run needs, as read from a TOML file (loadScene) or built in C++.
+/// Units are SI throughout: m, s, kg, N, Pa, J.
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "granular/simulation.hpp"
+
+namespace granular {
+
+/// A rectangular box [min, max]. Each of its six faces is a wall or open.
+struct BoxSpec {
+  Vec3 min = Vec3::Zero();  ///< lower corner [m]
+  Vec3 max = Vec3::Ones();  ///< upper corner [m]
+  /// Which faces are walls, in the order x-, x+, y-, y+, bottom (z-), top (z+).
+  std::array<bool, 6> walls = {true, true, true, true, true, false};
+};
+
+/// Names of the box faces in BoxSpec::walls order; also the names of the walls built from them.
+inline constexpr std::array<const char*, 6> kBoxWallNames = {"x-", "x+",     "y-",
+                                                             "y+", "bottom", "top"};
+
+/// Particles at the centres of a uniform cubic grid, filled x fastest, then y, then z, with
+/// radii uniform in [radiusMin, radiusMax] and velocities of uniform magnitude in [0, speedMax]
+/// in uniformly random directions, all from `seed`.
+struct GridGenerator {
+  Vec3 origin = Vec3::Zero();            ///< lower corner of the grid [m]
+  double cellSize = 0.1;                 ///< cubic cell edge [m]
+  std::array<int, 3> cells = {1, 1, 1};  ///< cells along x, y, z
+  std::size_t count = 1;                 ///< particles to place (<= cells product)
+  double radiusMin = 0.03;               ///< [m]
+  double radiusMax = 0.035;              ///< [m]
+  double speedMax = 0.0;                 ///< [m/s]
+  std::uint64_t seed = 1;
+};
+
+/// Particles listed in a CSV file: a header line, then rows x,y,z,r[,vx,vy,vz] in m and m/s.
+struct CsvGenerator {
+  std::filesystem::path path;  ///< resolved against the scene file's folder
+};
+
+using Generator = std::variant<GridGenerator, CsvGenerator>;
+
+/// When a stage ends: at `maxTime`, or earlier once the kinetic energy has stayed below
+/// `kineticEnergyBelow` for `sustainTime`.
+struct StageEnd {
+  double maxTime = 1.0;                      ///< stage duration cap [s]
+  std::optional<double> kineticEnergyBelow;  ///< quasistatic threshold [J]
+  double sustainTime = 0.0;                  ///< how long it must stay below [s]
+};
+
+/// A wall velocity set at the start of a stage.
+struct WallMotion {
+  std::string wall;              ///< wall name (kBoxWallNames)
+  Vec3 velocity = Vec3::Zero();  ///< [m/s]
+};
+
+struct StageSpec {
+  std::string name = "stage";
+  StageEnd end;
+  std::vector<WallMotion> wallMotions;
+  /// Adds the top wall at the highest particle surface max(z_i + R_i) when the stage starts.
+  bool placeTopWallOnSurface = false;
+  /// Starts the stage's own clock at t = 0 (the paper's stage 2).
+  bool resetClock = false;
+};
+
+struct OutputSpec {
+  double interval = 0.01;             ///< time-series sampling interval [s]
+  std::vector<double> snapshotTimes;  ///< stage-clock times of particle snapshots [s]
+};
+
+struct Scene {
+  std::filesystem::path sourceFile;  ///< the TOML file it came from (empty if built in C++)
+  SimulationConfig simulation;       ///< material, gravity, integrator, time step
+  BoxSpec box;
+  std::vector<Generator> generators;
+  /// If set, the density is scaled so that the total mass equals this [kg].
+  std::optional<double> totalMass;
+  std::vector<StageSpec> stages;
+  OutputSpec output;
+};
+
+/// Reads and validates a scene file. Throws SceneError naming the file, the key, the value and
+/// the allowed range on any unknown key, wrong type or out-of-range value.
+Scene loadScene(const std::filesystem::path& file);
+
+/// Builds the particles of a scene (generators, mass scaling). Throws ConfigError on a particle
+/// outside the box, overlapping particles at start, or an unreadable CSV (naming file and row).
+Particles buildParticles(const Scene& scene);
+
+/// Builds the walls of the box.
+std::vector<Wall> buildWalls(const BoxSpec& box);
+
+/// Builds a ready-to-run simulation from a scene.
+Simulation buildSimulation(const Scene& scene);
+
+}  // namespace granular

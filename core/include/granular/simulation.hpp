@@ -1,0 +1,132 @@
+#pragma once
+/// The time-stepping engine: contact search, contact forces (design §2), integration, energy
+/// bookkeeping and wall reactions. One step runs the passes
+///   predict → move walls → update neighbour lists → contact forces → correct → measure.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "granular/contact_theory.hpp"
+#include "granular/material.hpp"
+#include "granular/particles.hpp"
+#include "granular/vec3.hpp"
+#include "granular/wall.hpp"
+
+namespace granular {
+
+/// Time integration scheme.
+enum class Integrator {
+  Gear5,           ///< Gear's 5th-order (6-value) predictor-corrector, the paper's choice
+  VelocityVerlet,  ///< velocity Verlet, forces evaluated with the predicted velocity
+};
+
+/// Everything the engine needs besides the particles and walls.
+struct SimulationConfig {
+  Material material;                     ///< particle and wall material
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< gravitational acceleration g [m/s²]
+  Integrator integrator = Integrator::Gear5;
+  double timeStep = 1e-4;    ///< Δt [s]; refused above kMaxStepFraction·contact duration
+  double skin = 0.0;         ///< neighbour-list skin [m]; 0 picks 0.3·smallest radius
+  double impactSpeed = 1.0;  ///< largest expected approach speed [m/s] (Hertz step check only)
+};
+
+/// Energy bookkeeping. Stored energies are instantaneous; dissipation and work are accumulated
+/// since the start (trapezoidal rule on the powers). For an exact integrator `total()` is constant;
+/// its drift measures the integrator's truncation error.
+struct EnergyBalance {
+  double kineticTranslational = 0;  ///< Σ ½ m v² [J]
+  double kineticRotational = 0;     ///< Σ ½ I ω² [J]
+  double elasticNormal = 0;         ///< Σ over contacts of ∫ F_n^e dh [J]
+  double elasticTangential = 0;     ///< Σ over contacts of ½ k_t |ξ|² [J]
+  double dissipatedNormal = 0;      ///< by the normal dashpot (as applied, after the clamp) [J]
+  double dissipatedTangential = 0;  ///< by the tangential dashpot while sticking [J]
+  double dissipatedFriction = 0;    ///< by Coulomb sliding: the rest of the tangential work [J]
+  /// Energy the tangential spring gains when its stiffness k_t ∝ sqrt(R h) changes at fixed
+  /// stretch ξ: the Mindlin-type spring of the paper is not conservative, so this term is kept
+  /// apart rather than hidden in a dissipation column [J].
+  double tangentialStiffnessWork = 0;
+  double gravityWork = 0;  ///< work of gravity on the particles, Σ m g·(x - x₀) [J]
+  double wallWork = 0;     ///< work of the moving walls on the particles [J]
+
+  /// Stored + dissipated − work put in: constant up to the integrator's truncation error [J].
+  double total() const {
+    return kineticTranslational + kineticRotational + elasticNormal + elasticTangential +
+           dissipatedNormal + dissipatedTangential + dissipatedFriction - tangentialStiffnessWork -
+           gravityWork - wallWork;
+  }
+  double kinetic() const { return kineticTranslational + kineticRotational; }
+};
+
+/// Counters of the last step and of the run.
+struct StepCounters {
+  std::size_t particleContacts = 0;  ///< particle pairs with overlap > 0 at the last step
+  std::size_t wallContacts = 0;      ///< particle-wall pairs with overlap > 0 at the last step
+  std::size_t neighbourPairs = 0;    ///< candidate pairs in the neighbour list
+  std::uint64_t rebuilds = 0;        ///< neighbour-list rebuilds since the start
+  std::uint64_t tangentialEvaluations = 0;  ///< tangential force evaluations since the start
+};
+
+/// One contact as seen from particle i, for stress averaging (Eq. 1) and figures.
+struct ContactView {
+  std::size_t particle = 0;  ///< i
+  long other = -1;           ///< j >= 0 for a particle, or -(wall index) - 1 for a wall
+  Vec3 point;                ///< contact point C_ij [m]
+  Vec3 force;                ///< F_ij, force on i [N]
+};
+
+struct SimulationState;  // private: core/src/simulation_state.hpp
+
+class Simulation {
+ public:
+  /// Validates the configuration (ConfigError on a bad value or an unstable time step) and
+  /// computes the initial forces.
+  Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  /// Advances one time step.
+  void step();
+  /// Advances n steps.
+  void run(std::uint64_t steps);
+
+  double time() const;              ///< simulated time [s]
+  void setTime(double t);           ///< resets the clock (a stage's own time scale)
+  std::uint64_t stepCount() const;  ///< steps taken since construction
+  const SimulationConfig& config() const;
+  const Particles& particles() const;
+  const std::vector<Wall>& walls() const;
+  /// Adds a wall (e.g. the top wall of stage 2); returns its index.
+  std::size_t addWall(const Wall& wall);
+  /// Sets a wall's prescribed velocity [m/s].
+  void setWallVelocity(std::size_t wall, const Vec3& velocity);
+  /// Index of the wall with this name, or -1.
+  long findWall(const std::string& name) const;
+
+  /// Stiffest contact and its duration, from which the time step limit follows.
+  const ContactScale& contactScale() const;
+  /// True when the tangential force and rotations are integrated (μ > 0).
+  bool frictional() const;
+
+  EnergyBalance energy() const;
+  double kineticEnergy() const;  ///< translational + rotational [J]
+  const StepCounters& counters() const;
+  /// Acceleration of particle i at the current state (forces / m + g) [m/s²].
+  Vec3 acceleration(std::size_t i) const;
+
+  /// Calls `visit` for every contact with overlap > 0 at the current state, once from each side
+  /// of a particle pair and once for each particle-wall contact.
+  void forEachContact(const std::function<void(const ContactView&)>& visit) const;
+
+  /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
+  void setRebuildEveryStep(bool on);
+
+  /// FNV-1a hash of positions, velocities and angular velocities, bit for bit.
+  std::uint64_t stateHash() const;
+
+ private:
+  std::unique_ptr<SimulationState> state_;
+};
+
+}  // namespace granular

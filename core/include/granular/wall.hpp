@@ -1,0 +1,18 @@
+#pragma once
+/// Plane walls. A wall is a body of infinite radius and mass (design §2).
+#include <string>
+
+#include "granular/vec3.hpp"
+
+namespace granular {
+
+/// An infinite plane through `point` with unit `normal` pointing into the granular domain.
+struct Wall {
+  std::string name;              ///< "x-", "x+", "y-", "y+", "bottom", "top" or user's
+  Vec3 point = Vec3::Zero();     ///< a point of the plane [m]
+  Vec3 normal = Vec3::UnitZ();   ///< unit normal into the domain [-]
+  Vec3 velocity = Vec3::Zero();  ///< prescribed translation velocity [m/s]
+  Vec3 reaction = Vec3::Zero();  ///< force of the particles on the wall at the last step [N]
+};
+
+}  // namespace granular

@@ -1,0 +1,81 @@
+/// Closed forms of a single normal impact (see contact_theory.hpp for the models).
+#include "granular/contact_theory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "granular/error.hpp"
+
+namespace granular {
+
+ImpactPrediction hookeDampedImpact(double k, double normalDamping, double m, double v0) {
+  const double omega0 = std::sqrt(k / m);
+  const double beta = 0.5 * normalDamping;  // c/(2m) with c = γn·m
+  if (beta >= omega0) {
+    std::ostringstream msg;
+    msg << "normal damping " << normalDamping << " 1/s over-damps a contact of natural frequency "
+        << omega0 << " rad/s (needs normal_damping < " << 2.0 * omega0 << ")";
+    throw ConfigError(msg.str());
+  }
+  const double omegaD = std::sqrt(omega0 * omega0 - beta * beta);
+  const double c = normalDamping * m;
+  // h = A e^{-βt} sin(ωd t), A = v0/ωd. The force k h + c ḣ is
+  //   A e^{-βt} [(k - cβ) sin(ωd t) + c ωd cos(ωd t)],
+  // which vanishes first (after the overlap peak) where tan(ωd t) = -c ωd/(k - cβ).
+  const double phase = std::atan2(c * omegaD, k - c * beta);  // in (0, π)
+  const double tEnd = (std::numbers::pi - phase) / omegaD;
+  const double amplitude = v0 / omegaD;
+  const double decay = std::exp(-beta * tEnd);
+  const double hEnd = amplitude * decay * std::sin(omegaD * tEnd);
+  const double hDotEnd =
+      amplitude * decay * (omegaD * std::cos(omegaD * tEnd) - beta * std::sin(omegaD * tEnd));
+  // Peak overlap where ḣ = 0: tan(ωd t) = ωd/β.
+  const double tPeak = std::atan2(omegaD, beta) / omegaD;
+  ImpactPrediction p;
+  p.forceDuration = tEnd;
+  p.restitution = -hDotEnd / v0;
+  p.overlapDuration = tEnd + hEnd / (-hDotEnd);
+  p.peakOverlap = amplitude * std::exp(-beta * tPeak) * std::sin(omegaD * tPeak);
+  return p;
+}
+
+ImpactPrediction hertzUndampedImpact(double hertzConstant, double m, double v) {
+  ImpactPrediction p;
+  // Energy: ½ m v² = (2/5) K h_max^{5/2}. Duration 2 ∫₀^h_max dh / sqrt(v² - (4K/5m) h^{5/2})
+  // = 2 (h_max/v) ∫₀¹ du/sqrt(1 - u^{5/2}), and ∫₀¹ du/sqrt(1 - u^{5/2}) = (2/5) B(2/5, 1/2);
+  // together 3.2181 (m/K)^{2/5} v^{-1/5}.
+  p.peakOverlap = std::pow(5.0 * m * v * v / (4.0 * hertzConstant), 0.4);
+  const double beta = std::tgamma(0.4) * std::tgamma(0.5) / std::tgamma(0.9);
+  p.forceDuration = 2.0 * p.peakOverlap / v * 0.4 * beta;
+  p.overlapDuration = p.forceDuration;
+  p.restitution = 1.0;
+  return p;
+}
+
+namespace {
+
+double contactDuration(const Material& mat, double reducedRadius, double reducedMass,
+                       double impactSpeed) {
+  const double kn = mat.normalCoefficient();
+  if (mat.normalLaw == NormalLaw::Hooke) {
+    return hookeDampedImpact(kn * reducedRadius, mat.normalDamping, reducedMass, 1.0).forceDuration;
+  }
+  return hertzUndampedImpact(kn * std::sqrt(reducedRadius), reducedMass, impactSpeed).forceDuration;
+}
+
+}  // namespace
+
+ContactScale stiffestContact(const Material& mat, double r, double impactSpeed) {
+  const double m = mat.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double wall = contactDuration(mat, r, m, impactSpeed);
+  const double pair = contactDuration(mat, 0.5 * r, 0.5 * m, impactSpeed);
+  ContactScale s;
+  s.radius = r;
+  s.againstWall = wall < pair;
+  s.duration = std::min(wall, pair);
+  return s;
+}
+
+}  // namespace granular

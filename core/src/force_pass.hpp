@@ -1,0 +1,20 @@
+#pragma once
+/// Entry points of the force pass (force_pass.cpp).
+#include <functional>
+#include <vector>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// Contact forces, torques, wall reactions and contact powers at the current state; advances the
+/// tangential springs by one time step `dt` (0 evaluates without advancing them).
+void computeContactForces(SimulationState& s, double dt);
+
+/// Evaluates every contact at the current state without advancing any history and calls
+/// `visit` from both sides of each pair and once per wall contact. If `netForce` is given it
+/// receives Σ_j F_ij per particle (contact forces only) from the same evaluation.
+void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,
+                   std::vector<Vec3>* netForce);
+
+}  // namespace granular

@@ -1,0 +1,39 @@
+#pragma once
+/// Time integrators acting on (position, velocity, Derivatives) triples; they know nothing of
+/// contacts. Used for translation (x, v) and rotation (θ, ω) alike.
+#include <vector>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// Gear's 6-value (5th-order) predictor-corrector for x'' = f(x, x').
+///
+/// Predictor: Taylor series of x and its derivatives to 5th order. Corrector, with
+/// δ = a(predicted state) - a_predicted and Δ = δ·Δt²/2 in the scaled (Nordsieck) variables
+/// r_k = x^(k) Δt^k / k!:  r_k += c_k Δ, with
+///   c = {3/20, 251/360, 1, 11/18, 1/6, 1/60}.
+/// Gear's c0 for position-only forces is 3/16; for forces that depend on the velocity (the
+/// dashpots γn, γt here) Gear gives c0 = 3/20 (Allen & Tildesley, Computer Simulation of Liquids,
+/// App. E), which keeps the scheme's order for x'' = f(x, x').
+struct Gear5 {
+  static constexpr double kC0 = 3.0 / 20.0, kC1 = 251.0 / 360.0, kC2 = 1.0, kC3 = 11.0 / 18.0,
+                          kC4 = 1.0 / 6.0, kC5 = 1.0 / 60.0;
+  static void predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt);
+  /// `accel` is the acceleration evaluated at the predicted state.
+  static void correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
+                      const std::vector<Vec3>& accel, double dt);
+};
+
+/// Velocity Verlet. The dashpots need the velocity at the new time, which Verlet only knows
+/// after the force: the force is evaluated with the predicted velocity v_n + a_n Δt, and the
+/// kick then completes v_{n+1} = v_n + (a_n + a_{n+1}) Δt/2. Evaluating with the half-step
+/// velocity instead would make the scheme first order for velocity-dependent forces.
+struct VelocityVerlet {
+  /// x += v Δt + a Δt²/2; v += a Δt (the predicted velocity).
+  static void drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d, double dt);
+  /// v += (accel - a) Δt/2; a = accel.
+  static void kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt);
+};
+
+}  // namespace granular

@@ -1,0 +1,202 @@
+/// Neighbour (Verlet) lists on a uniform cell grid, with the contact history carried across
+/// rebuilds. Sections: cell grid, particle pairs, wall candidates, history merge, staleness.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+namespace {
+
+// ---- Cell grid ----------------------------------------------------------------------------
+
+/// Particles binned into cubic cells at least as large as the reach of the largest pair, so
+/// that every candidate of a particle lies in its own or the 26 adjacent cells.
+struct CellGrid {
+  Vec3 origin;
+  double cellSize = 1.0;
+  std::array<long, 3> dims = {1, 1, 1};
+  std::vector<std::uint32_t> cellStart;  ///< prefix sums, size cells + 1
+  std::vector<std::uint32_t> items;      ///< particle indices ordered by cell
+
+  long cellCoord(double x, int axis) const {
+    const long c = static_cast<long>(std::floor((x - origin[axis]) / cellSize));
+    return std::clamp(c, 0L, dims[axis] - 1);
+  }
+  long cellIndex(long cx, long cy, long cz) const { return (cz * dims[1] + cy) * dims[0] + cx; }
+};
+
+CellGrid binParticles(const Particles& p, double reach) {
+  CellGrid grid;
+  const std::size_t n = p.size();
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max());
+  Vec3 hi = -lo;
+  for (std::size_t i = 0; i < n; ++i) {
+    lo = lo.cwiseMin(p.position[i]);
+    hi = hi.cwiseMax(p.position[i]);
+  }
+  grid.origin = lo;
+  grid.cellSize = reach;
+  // A particle far from the others must not blow up the cell count: cap it at ~2 cells/particle.
+  const double maxCells = 2.0 * static_cast<double>(n) + 64.0;
+  for (;;) {
+    double cells = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      grid.dims[a] = static_cast<long>((hi[a] - lo[a]) / grid.cellSize) + 1;
+      cells *= static_cast<double>(grid.dims[a]);
+    }
+    if (cells <= maxCells) break;
+    grid.cellSize *= 1.5;
+  }
+  const std::size_t cellCount =
+      static_cast<std::size_t>(grid.dims[0] * grid.dims[1] * grid.dims[2]);
+  std::vector<std::uint32_t> cellOf(n);
+  grid.cellStart.assign(cellCount + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& x = p.position[i];
+    cellOf[i] = static_cast<std::uint32_t>(
+        grid.cellIndex(grid.cellCoord(x[0], 0), grid.cellCoord(x[1], 1), grid.cellCoord(x[2], 2)));
+    ++grid.cellStart[cellOf[i] + 1];
+  }
+  for (std::size_t c = 0; c < cellCount; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
+  grid.items.resize(n);
+  std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) grid.items[fill[cellOf[i]]++] = static_cast<std::uint32_t>(i);
+  return grid;
+}
+
+// ---- History merge ------------------------------------------------------------------------
+
+/// Copies the history of pairs present in both (sorted) lists from old to new.
+void carryPairHistory(const std::vector<std::uint32_t>& oldFirst,
+                      const std::vector<std::uint32_t>& oldSecond,
+                      const std::vector<TangentialHistory>& oldHistory,
+                      const std::vector<std::uint32_t>& newFirst,
+                      const std::vector<std::uint32_t>& newSecond,
+                      std::vector<TangentialHistory>& newHistory) {
+  newHistory.assign(newFirst.size(), TangentialHistory{});
+  std::size_t a = 0;
+  for (std::size_t b = 0; b < newFirst.size() && a < oldFirst.size(); ++b) {
+    const std::uint64_t key = (std::uint64_t{newFirst[b]} << 32) | newSecond[b];
+    while (a < oldFirst.size() && ((std::uint64_t{oldFirst[a]} << 32) | oldSecond[a]) < key) ++a;
+    if (a < oldFirst.size() && oldFirst[a] == newFirst[b] && oldSecond[a] == newSecond[b]) {
+      newHistory[b] = oldHistory[a];
+    }
+  }
+}
+
+void carryWallHistory(const std::vector<std::uint32_t>& oldList,
+                      const std::vector<TangentialHistory>& oldHistory,
+                      const std::vector<std::uint32_t>& newList,
+                      std::vector<TangentialHistory>& newHistory) {
+  newHistory.assign(newList.size(), TangentialHistory{});
+  std::size_t a = 0;
+  for (std::size_t b = 0; b < newList.size() && a < oldList.size(); ++b) {
+    while (a < oldList.size() && oldList[a] < newList[b]) ++a;
+    if (a < oldList.size() && oldList[a] == newList[b]) newHistory[b] = oldHistory[a];
+  }
+}
+
+}  // namespace
+
+// ---- Rebuild ------------------------------------------------------------------------------
+
+void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::vector<Wall>& walls,
+                          bool keepHistory) {
+  const std::size_t n = p.size();
+  const double rMax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
+  const double skin = list.skin;
+
+  std::vector<std::uint32_t> first, second;
+  first.reserve(list.first.size() + n);
+  second.reserve(list.second.size() + n);
+  if (n > 1) {
+    const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
+    std::vector<std::uint32_t> found;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3& xi = p.position[i];
+      const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
+                 cz = grid.cellCoord(xi[2], 2);
+      found.clear();
+      for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
+        for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
+          for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
+            const long c = grid.cellIndex(x, y, z);
+            for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
+              const std::uint32_t j = grid.items[k];
+              if (j <= i) continue;
+              const double reach = p.radius[i] + p.radius[j] + skin;
+              if ((p.position[j] - xi).squaredNorm() < reach * reach) found.push_back(j);
+            }
+          }
+        }
+      }
+      std::sort(found.begin(), found.end());
+      for (std::uint32_t j : found) {
+        first.push_back(static_cast<std::uint32_t>(i));
+        second.push_back(j);
+      }
+    }
+  }
+
+  // Wall candidates: particles whose surface is within the skin of the plane (or beyond it).
+  std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double distance = (p.position[i] - walls[w].point).dot(walls[w].normal);
+      if (distance < p.radius[i] + skin) wallParticles[w].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+
+  if (keepHistory) {
+    std::vector<TangentialHistory> history;
+    carryPairHistory(list.first, list.second, list.history, first, second, history);
+    list.history = std::move(history);
+    list.wallHistory.resize(walls.size());
+    std::vector<std::vector<TangentialHistory>> wallHistory(walls.size());
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (w < list.wallParticles.size()) {
+        carryWallHistory(list.wallParticles[w], list.wallHistory[w], wallParticles[w],
+                         wallHistory[w]);
+      } else {
+        wallHistory[w].assign(wallParticles[w].size(), TangentialHistory{});
+      }
+    }
+    list.wallHistory = std::move(wallHistory);
+  }
+  list.first = std::move(first);
+  list.second = std::move(second);
+  list.wallParticles = std::move(wallParticles);
+  list.referencePosition = p.position;
+  list.referenceWallPoint.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallPoint[w] = walls[w].point;
+  list.valid = true;
+}
+
+// ---- Staleness ----------------------------------------------------------------------------
+
+bool neighbourListStale(const NeighbourList& list, const Particles& p,
+                        const std::vector<Wall>& walls) {
+  if (!list.valid || list.referencePosition.size() != p.size() ||
+      list.referenceWallPoint.size() != walls.size()) {
+    return true;
+  }
+  // Two particles approach by at most twice the largest displacement; a particle and a wall by
+  // the particle's displacement plus the wall's.
+  double maxMove2 = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
+  }
+  const double maxMove = std::sqrt(maxMove2);
+  if (2.0 * maxMove >= list.skin) return true;
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const double wallMove =
+        std::abs((walls[w].point - list.referenceWallPoint[w]).dot(walls[w].normal));
+    if (maxMove + wallMove >= list.skin) return true;
+  }
+  return false;
+}
+
+}  // namespace granular

@@ -1,0 +1,329 @@
+/// Simulation: set-up and validation, the step (its passes in order), measurements.
+#include "granular/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "force_pass.hpp"
+#include "granular/error.hpp"
+#include "integrators.hpp"
+#include "simulation_state.hpp"
+
+namespace granular {
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw ConfigError(what);
+}
+
+std::string str(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
+  return o.str();
+}
+
+void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
+  const Material& m = cfg.material;
+  require(std::isfinite(m.youngModulus) && m.youngModulus > 0,
+          "material.youngs_modulus = " + str(m.youngModulus) + " Pa: must be > 0");
+  require(m.poissonRatio >= 0 && m.poissonRatio < 0.5,
+          "material.poisson_ratio = " + str(m.poissonRatio) + ": must be in [0, 0.5)");
+  require(std::isfinite(m.shearModulus) && m.shearModulus > 0,
+          "material.shear_modulus = " + str(m.shearModulus) + " Pa: must be > 0");
+  require(std::isfinite(m.friction) && m.friction >= 0,
+          "material.friction = " + str(m.friction) + ": must be >= 0");
+  require(std::isfinite(m.normalDamping) && m.normalDamping >= 0,
+          "material.normal_damping = " + str(m.normalDamping) + " 1/s: must be >= 0");
+  require(std::isfinite(m.tangentialDamping) && m.tangentialDamping >= 0,
+          "material.tangential_damping = " + str(m.tangentialDamping) + " 1/s: must be >= 0");
+  require(std::isfinite(cfg.timeStep) && cfg.timeStep > 0,
+          "time step = " + str(cfg.timeStep) + " s: must be > 0");
+  require(std::isfinite(cfg.skin) && cfg.skin >= 0, "skin = " + str(cfg.skin) + " m: must be >= 0");
+  require(cfg.gravity.allFinite(), "gravity must be finite");
+  require(p.size() > 0, "the scene has no particles");
+  require(p.velocity.size() == p.size() && p.angularVelocity.size() == p.size() &&
+              p.radius.size() == p.size() && p.mass.size() == p.size(),
+          "particle arrays have different lengths");
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    require(std::isfinite(p.radius[i]) && p.radius[i] > 0,
+            "particle " + std::to_string(i) + ": radius " + str(p.radius[i]) + " m must be > 0");
+    require(std::isfinite(p.mass[i]) && p.mass[i] > 0,
+            "particle " + std::to_string(i) + ": mass " + str(p.mass[i]) + " kg must be > 0");
+    require(
+        p.position[i].allFinite() && p.velocity[i].allFinite() && p.angularVelocity[i].allFinite(),
+        "particle " + std::to_string(i) + ": position or velocity is not finite");
+  }
+  for (const Wall& w : walls) {
+    require(std::abs(w.normal.norm() - 1.0) < 1e-12,
+            "wall " + w.name + ": normal must be a unit vector");
+    require(w.point.allFinite() && w.velocity.allFinite(), "wall " + w.name + ": not finite");
+  }
+}
+
+}  // namespace
+
+// ---- Set-up -------------------------------------------------------------------------------
+
+Simulation::Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config)
+    : state_(std::make_unique<SimulationState>()) {
+  validate(config, particles, walls);
+  SimulationState& s = *state_;
+  s.config = config;
+  s.particles = std::move(particles);
+  s.walls = std::move(walls);
+  s.frictional = config.material.hasFriction();
+  const Particles& p = s.particles;
+  const std::size_t n = p.size();
+  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+
+  // Refuse a step the contacts cannot resolve (design §2: report the contact duration).
+  s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
+  const double limit = kMaxStepFraction * s.contactScale.duration;
+  if (config.timeStep > limit) {
+    std::ostringstream msg;
+    msg << "time step " << config.timeStep << " s is above the limit " << limit
+        << " s = " << kMaxStepFraction << " x the contact duration " << s.contactScale.duration
+        << " s of the stiffest contact (radius " << rMin << " m "
+        << (s.contactScale.againstWall ? "against a wall" : "against an equal particle")
+        << "); use at most " << limit << " s (1/50 to 1/20 of the duration is usual)";
+    throw ConfigError(msg.str());
+  }
+  s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
+
+  s.invMass.resize(n);
+  s.invInertia.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.invMass[i] = 1.0 / p.mass[i];
+    s.invInertia[i] = 1.0 / p.inertia(i);
+  }
+  const bool gear = config.integrator == Integrator::Gear5;
+  auto allocate = [&](Derivatives& d) {
+    d.d2.assign(n, Vec3::Zero());
+    if (gear) {
+      d.d3.assign(n, Vec3::Zero());
+      d.d4.assign(n, Vec3::Zero());
+      d.d5.assign(n, Vec3::Zero());
+    }
+  };
+  allocate(s.translation);
+  if (s.frictional) {
+    allocate(s.rotation);
+    s.angle.assign(n, Vec3::Zero());
+  } else {
+    // The frictionless path never touches rotations: they stay exactly as given.
+    s.particles.angularVelocity.assign(n, Vec3::Zero());
+  }
+
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional);
+  ++s.counters.rebuilds;
+  computeContactForces(s, 0.0);  // initial forces; dt = 0 leaves the springs as they are
+  for (std::size_t i = 0; i < n; ++i) {
+    s.translation.d2[i] = s.force[i] * s.invMass[i] + config.gravity;
+    if (s.frictional) s.rotation.d2[i] = s.torque[i] * s.invInertia[i];
+  }
+  double potential = 0;
+  for (std::size_t i = 0; i < n; ++i) potential += p.mass[i] * config.gravity.dot(p.position[i]);
+  s.energy.initialPotential = potential;
+  s.energy.initialTangentialElastic = s.powers.elasticTangential;
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+// ---- The step -----------------------------------------------------------------------------
+
+/// One time step, as named passes:
+///   1. predict (Gear) or drift (Verlet) translation and, with friction, rotation;
+///   2. move the walls with their prescribed velocities;
+///   3. rebuild the neighbour list if particles or walls moved more than the skin allows;
+///   4. contact forces and torques, Eq. (5), at the predicted state;
+///   5. accelerations from Eqs. (3), (4): a = ΣF/m + g, dω/dt = Σ d×F / I;
+///   6. correct (Gear) or kick (Verlet);
+///   7. accumulate dissipation and work (trapezoidal rule on the powers of passes 4).
+void Simulation::step() {
+  SimulationState& s = *state_;
+  Particles& p = s.particles;
+  const double dt = s.config.timeStep;
+  const bool gear = s.config.integrator == Integrator::Gear5;
+  const std::size_t n = p.size();
+
+  // 1. Predict.
+  if (gear) {
+    Gear5::predict(p.position, p.velocity, s.translation, dt);
+    if (s.frictional) Gear5::predict(s.angle, p.angularVelocity, s.rotation, dt);
+  } else {
+    VelocityVerlet::drift(p.position, p.velocity, s.translation, dt);
+    if (s.frictional) VelocityVerlet::drift(s.angle, p.angularVelocity, s.rotation, dt);
+  }
+  // 2. Walls.
+  for (Wall& w : s.walls) w.point += w.velocity * dt;
+  s.time += dt;
+  ++s.steps;
+  // 3. Neighbours.
+  if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls)) {
+    rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional);
+    ++s.counters.rebuilds;
+  }
+  // 4. Forces.
+  const ContactPowers before = s.powers;
+  computeContactForces(s, dt);
+  // 5. Accelerations (reusing the force arrays: they are not needed after this pass).
+  for (std::size_t i = 0; i < n; ++i) s.force[i] = s.force[i] * s.invMass[i] + s.config.gravity;
+  if (s.frictional) {
+    for (std::size_t i = 0; i < n; ++i) s.torque[i] *= s.invInertia[i];
+  }
+  // 6. Correct.
+  if (gear) {
+    Gear5::correct(p.position, p.velocity, s.translation, s.force, dt);
+    if (s.frictional) Gear5::correct(s.angle, p.angularVelocity, s.rotation, s.torque, dt);
+  } else {
+    VelocityVerlet::kick(p.velocity, s.translation, s.force, dt);
+    if (s.frictional) VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt);
+  }
+  // 7. Bookkeeping.
+  const ContactPowers& now = s.powers;
+  EnergyAccumulators& e = s.energy;
+  const double half = 0.5 * dt;
+  e.dissipatedNormal += half * (before.normalDampingPower + now.normalDampingPower);
+  e.dissipatedTangential += half * (before.tangentialDampingPower + now.tangentialDampingPower);
+  e.tangentialWork += half * (before.tangentialPower + now.tangentialPower);
+  e.wallWork += half * (before.wallPower + now.wallPower);
+  e.stiffnessWork += now.stiffnessWork;
+  s.counters.particleContacts = now.particleContacts;
+  s.counters.wallContacts = now.wallContacts;
+  s.counters.neighbourPairs = s.neighbours.first.size();
+  s.counters.tangentialEvaluations += now.tangentialEvaluations;
+}
+
+void Simulation::run(std::uint64_t steps) {
+  for (std::uint64_t k = 0; k < steps; ++k) step();
+}
+
+// ---- Accessors and measurements -----------------------------------------------------------
+
+double Simulation::time() const {
+  return state_->time;
+}
+void Simulation::setTime(double t) {
+  state_->time = t;
+}
+std::uint64_t Simulation::stepCount() const {
+  return state_->steps;
+}
+const SimulationConfig& Simulation::config() const {
+  return state_->config;
+}
+const Particles& Simulation::particles() const {
+  return state_->particles;
+}
+const std::vector<Wall>& Simulation::walls() const {
+  return state_->walls;
+}
+const ContactScale& Simulation::contactScale() const {
+  return state_->contactScale;
+}
+bool Simulation::frictional() const {
+  return state_->frictional;
+}
+const StepCounters& Simulation::counters() const {
+  return state_->counters;
+}
+void Simulation::setRebuildEveryStep(bool on) {
+  state_->rebuildEveryStep = on;
+}
+Vec3 Simulation::acceleration(std::size_t i) const {
+  return state_->translation.d2.at(i);
+}
+
+std::size_t Simulation::addWall(const Wall& wall) {
+  require(std::abs(wall.normal.norm() - 1.0) < 1e-12,
+          "wall " + wall.name + ": normal must be a unit vector");
+  SimulationState& s = *state_;
+  s.walls.push_back(wall);
+  s.neighbours.valid = false;  // the new wall needs its candidate list
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional);
+  ++s.counters.rebuilds;
+  return s.walls.size() - 1;
+}
+
+void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {
+  require(velocity.allFinite(), "wall velocity must be finite");
+  state_->walls.at(wall).velocity = velocity;
+}
+
+long Simulation::findWall(const std::string& name) const {
+  const auto& w = state_->walls;
+  for (std::size_t k = 0; k < w.size(); ++k) {
+    if (w[k].name == name) return static_cast<long>(k);
+  }
+  return -1;
+}
+
+double Simulation::kineticEnergy() const {
+  const SimulationState& s = *state_;
+  const Particles& p = s.particles;
+  double e = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) e += p.mass[i] * p.velocity[i].squaredNorm();
+  if (s.frictional) {
+    for (std::size_t i = 0; i < p.size(); ++i)
+      e += p.inertia(i) * p.angularVelocity[i].squaredNorm();
+  }
+  return 0.5 * e;
+}
+
+EnergyBalance Simulation::energy() const {
+  const SimulationState& s = *state_;
+  const Particles& p = s.particles;
+  EnergyBalance b;
+  double potential = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    b.kineticTranslational += 0.5 * p.mass[i] * p.velocity[i].squaredNorm();
+    b.kineticRotational += 0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm();
+    potential += p.mass[i] * s.config.gravity.dot(p.position[i]);
+  }
+  const EnergyAccumulators& e = s.energy;
+  b.elasticNormal = s.powers.elasticNormal;
+  b.elasticTangential = s.powers.elasticTangential;
+  b.dissipatedNormal = e.dissipatedNormal;
+  b.dissipatedTangential = e.dissipatedTangential;
+  b.tangentialStiffnessWork = e.stiffnessWork;
+  // The friction column is what the tangential forces took from the particles and neither the
+  // springs nor the tangential dashpots hold: W_t = -ΔE_s - D_t - D_f + S.
+  b.dissipatedFriction = -e.tangentialWork - (b.elasticTangential - e.initialTangentialElastic) -
+                         e.dissipatedTangential + e.stiffnessWork;
+  b.gravityWork = potential - e.initialPotential;
+  b.wallWork = e.wallWork;
+  return b;
+}
+
+void Simulation::forEachContact(const std::function<void(const ContactView&)>& visit) const {
+  visitContacts(*state_, visit, nullptr);
+}
+
+std::uint64_t Simulation::stateHash() const {
+  const Particles& p = state_->particles;
+  std::uint64_t h = 1469598103934665603ULL;
+  auto mix = [&h](const Vec3& v) {
+    for (int k = 0; k < 3; ++k) {
+      std::uint64_t bits;
+      const double x = v[k];
+      std::memcpy(&bits, &x, sizeof bits);
+      for (int b = 0; b < 8; ++b) {
+        h ^= (bits >> (8 * b)) & 0xffU;
+        h *= 1099511628211ULL;
+      }
+    }
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    mix(p.position[i]);
+    mix(p.velocity[i]);
+    mix(p.angularVelocity[i]);
+  }
+  return h;
+}
+
+}  // namespace granular

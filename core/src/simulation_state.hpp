@@ -1,0 +1,101 @@
+#pragma once
+/// Private state of a Simulation (tests may include it). Sections:
+///   1. contact history and the neighbour lists that carry it
+///   2. integrator derivatives
+///   3. energy accumulators
+///   4. SimulationState itself
+#include <cstdint>
+#include <vector>
+
+#include "granular/simulation.hpp"
+
+namespace granular {
+
+// ---- 1. Contact history -------------------------------------------------------------------
+
+/// Tangential spring of one contact, kept for the contact's life (design §2).
+struct TangentialHistory {
+  Vec3 stretch = Vec3::Zero();  ///< ξ = ∫ v_t dt, rotated into the current tangent plane [m]
+  double stiffness = 0.0;       ///< k_t at the previous step, for the stiffness-work term [N/m]
+};
+
+/// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
+/// than the skin allows. Pairs are sorted by (first, second) so that the history of a pair can be
+/// carried to the rebuilt list by a merge, without hashing.
+struct NeighbourList {
+  std::vector<std::uint32_t> first;        ///< i of each candidate pair (i < j)
+  std::vector<std::uint32_t> second;       ///< j of each candidate pair
+  std::vector<TangentialHistory> history;  ///< per pair; empty on the frictionless path
+  /// Per wall: candidate particles (sorted) and their tangential history.
+  std::vector<std::vector<std::uint32_t>> wallParticles;
+  std::vector<std::vector<TangentialHistory>> wallHistory;
+  std::vector<Vec3> referencePosition;   ///< particle positions at the last build [m]
+  std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
+  double skin = 0.0;                     ///< [m]
+  bool valid = false;
+};
+
+/// Builds the list for the current positions, carrying tangential history of surviving pairs.
+void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
+                          const std::vector<Wall>& walls, bool keepHistory);
+/// True when some pair within the list's reach may have come into contact unseen.
+bool neighbourListStale(const NeighbourList& list, const Particles& particles,
+                        const std::vector<Wall>& walls);
+
+// ---- 2. Integrator derivatives ------------------------------------------------------------
+
+/// Time derivatives beyond the velocity of one kind of motion (translation or rotation):
+/// acceleration, and for Gear the 3rd, 4th and 5th derivatives (unscaled, so the step may change).
+struct Derivatives {
+  std::vector<Vec3> d2, d3, d4, d5;
+};
+
+// ---- 3. Energy accumulators ---------------------------------------------------------------
+
+/// Powers of one force evaluation, summed over contacts.
+struct ContactPowers {
+  double elasticNormal = 0;           ///< stored normal elastic energy [J]
+  double elasticTangential = 0;       ///< stored tangential spring energy [J]
+  double normalDampingPower = 0;      ///< [W], >= 0
+  double tangentialDampingPower = 0;  ///< while sticking [W], >= 0
+  double tangentialPower = 0;         ///< work rate of tangential forces on relative motion [W]
+  double stiffnessWork = 0;           ///< increment of this step [J]
+  double wallPower = 0;               ///< work rate of the walls' velocity on the particles [W]
+  std::size_t particleContacts = 0;
+  std::size_t wallContacts = 0;
+  std::uint64_t tangentialEvaluations = 0;
+};
+
+struct EnergyAccumulators {
+  double dissipatedNormal = 0, dissipatedTangential = 0, tangentialWork = 0;
+  double stiffnessWork = 0, wallWork = 0;
+  double initialPotential = 0;  ///< -Σ m g·x at the start [J]
+  double initialTangentialElastic = 0;
+};
+
+// ---- 4. The state -------------------------------------------------------------------------
+
+struct SimulationState {
+  SimulationConfig config;
+  Particles particles;
+  std::vector<Wall> walls;
+  double time = 0.0;
+  std::uint64_t steps = 0;
+  bool frictional = false;
+  bool rebuildEveryStep = false;
+  ContactScale contactScale;
+
+  // Per-particle derived constants and per-step accumulators.
+  std::vector<double> invMass, invInertia;
+  std::vector<Vec3> force, torque;  ///< contact forces [N] and torques [N m] of the last pass
+  Derivatives translation;          ///< d2 = acceleration [m/s²]
+  Derivatives rotation;             ///< d2 = angular acceleration [rad/s²]; frictional only
+  std::vector<Vec3> angle;  ///< ∫ω dt, Gear's rotational "position" [rad]; frictional only
+
+  NeighbourList neighbours;
+  ContactPowers powers;  ///< of the last force evaluation
+  EnergyAccumulators energy;
+  StepCounters counters;
+};
+
+}  // namespace granular
