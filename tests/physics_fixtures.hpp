@@ -1,6 +1,7 @@
 #pragma once
 /// Small scenes for the physics tests: binary impacts and their measurement.
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "granular/simulation.hpp"
@@ -47,6 +48,42 @@ MeasuredImpact measureImpact(Simulation& sim, Overlap overlap, double approachSp
   m.angularVelocityAfter = sim.particles().angularVelocity[particle];
   m.restitution = m.velocityAfter.dot(normal) / approachSpeed;
   return m;
+}
+
+}  // namespace granular::testing
+
+namespace granular::testing {
+
+/// A box of side `side` with walls on all faces but the top, and nx·ny·nz particles on a grid of
+/// cubic cells 0.1 m above its floor, radii uniform in [0.03, 0.035] m and random velocities up
+/// to `speed` m/s: a small version of the paper's stage 1.
+inline Simulation fallingGrid(int nx, int ny, int nz, const SimulationConfig& cfg, double speed,
+                              unsigned seed = 7) {
+  const double cell = 0.1, side = nx * cell;
+  std::uint64_t state = seed * 0x9E3779B97F4A7C15ULL + 1;
+  auto uniform = [&state]() {  // splitmix64: reproducible on every platform
+    state += 0x9E3779B97F4A7C15ULL;
+    std::uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  Particles p;
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const Vec3 x((i + 0.5) * cell, (j + 0.5) * cell, (k + 0.5) * cell);
+        const Vec3 v = speed * Vec3(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+        p.add(x, 0.03 + 0.005 * uniform(), cfg.material.density, v);
+      }
+    }
+  }
+  std::vector<Wall> walls = {
+      {"x-", Vec3(0, 0, 0), Vec3(1, 0, 0)},     {"x+", Vec3(side, 0, 0), Vec3(-1, 0, 0)},
+      {"y-", Vec3(0, 0, 0), Vec3(0, 1, 0)},     {"y+", Vec3(0, side, 0), Vec3(0, -1, 0)},
+      {"bottom", Vec3(0, 0, 0), Vec3(0, 0, 1)},
+  };
+  return Simulation(std::move(p), std::move(walls), cfg);
 }
 
 }  // namespace granular::testing
