@@ -193,6 +193,7 @@ void Simulation::step() {
   e.tangentialWork += half * (before.tangentialPower + now.tangentialPower);
   e.wallWork += half * (before.wallPower + now.wallPower);
   e.stiffnessWork += now.stiffnessWork;
+  for (Wall& w : s.walls) w.impulse += w.reaction * dt;
   s.counters.particleContacts = now.particleContacts;
   s.counters.wallContacts = now.wallContacts;
   s.counters.neighbourPairs = s.neighbours.first.size();
@@ -302,6 +303,12 @@ EnergyBalance Simulation::energy() const {
 
 void Simulation::forEachContact(const std::function<void(const ContactView&)>& visit) const {
   visitContacts(*state_, visit, nullptr);
+}
+
+std::vector<Vec3> Simulation::netContactForces() const {
+  std::vector<Vec3> net;
+  visitContacts(*state_, nullptr, &net);
+  return net;
 }
 
 std::uint64_t Simulation::stateHash() const {

@@ -118,6 +118,9 @@ class Simulation {
   /// Calls `visit` for every contact with overlap > 0 at the current state, once from each side
   /// of a particle pair and once for each particle-wall contact.
   void forEachContact(const std::function<void(const ContactView&)>& visit) const;
+  /// Σ_j F_ij per particle (contact forces only, walls included) from the same evaluation as
+  /// forEachContact [N].
+  std::vector<Vec3> netContactForces() const;
 
   /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
   void setRebuildEveryStep(bool on);

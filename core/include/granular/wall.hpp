@@ -13,6 +13,9 @@ struct Wall {
   Vec3 normal = Vec3::UnitZ();   ///< unit normal into the domain [-]
   Vec3 velocity = Vec3::Zero();  ///< prescribed translation velocity [m/s]
   Vec3 reaction = Vec3::Zero();  ///< force of the particles on the wall at the last step [N]
+  /// ∫ reaction dt since the start [N s]: the mean reaction over any interval is the difference
+  /// of two readings over its length (Eq. 2 asks for averaged reactions).
+  Vec3 impulse = Vec3::Zero();
 };
 
 }  // namespace granular

@@ -1,0 +1,41 @@
+#pragma once
+/// Stresses of a granular assembly in a rectangular box: Eq. (1), the volume average of contact
+/// forces and branch vectors, and Eq. (2), the face reactions over the face areas. Compression
+/// is negative, as in the paper.
+#include <vector>
+
+#include "granular/simulation.hpp"
+
+namespace granular {
+
+/// Eq. (1): σ_ij = (1/V) Σ_c F_i^c l_j^c over every contact of every particle (particle pairs seen
+/// from both sides, particle-wall contacts included), F^c the force on the particle and
+/// l^c = C - x_i the branch vector from its centre to the contact point [Pa].
+Mat3 volumeAveragedStress(const Simulation& sim, double volume);
+
+/// The box and what its walls carry, for the paper's Figs. 4, 5, 7 and 8.
+struct BoxStress {
+  Vec3 lower = Vec3::Zero();  ///< corner at the x-, y- and bottom walls [m]
+  Vec3 upper = Vec3::Zero();  ///< corner at x+, y+ and the top wall (or the highest particle) [m]
+  double volume = 0;          ///< (upper - lower) product [m³]
+  double weight = 0;          ///< Σ m |g| [N]
+  double topForce = 0;        ///< R33 of the top wall: the particles' push on it, upward [N]
+  double bottomForce = 0;     ///< R33 of the bottom wall: its support of the particles [N]
+  double sideMeanForce = 0;   ///< ¼ Σ |R| over the four side walls [N]
+  double sideVerticalForce = 0;  ///< upward (friction) support of the side walls [N]
+  /// (R33_bottom - R33_top + side vertical support - W) / W [-]
+  double balanceError = 0;
+  Mat3 eq1 = Mat3::Zero();        ///< σ of Eq. (1) over the box volume [Pa]
+  Vec3 eq2 = Vec3::Zero();        ///< σ11, σ22, σ33 of Eq. (2): opposite faces averaged [Pa]
+  double centreOfMassHeight = 0;  ///< z_cm above the floor [m]
+  /// The part of σ33(Eq. 1) - σ33(Eq. 2) a static frictionless bed has exactly,
+  /// (W/A)(1/2 - z_cm/H) (design §3); the rest of the difference is the remainder [Pa].
+  double sigma33CentreOfMassTerm = 0;
+};
+
+/// Measures the box of `sim`, whose walls are named as in kBoxWallNames. `reactions` are the wall
+/// forces to use for Eq. (2) and the balance, one per wall of `sim.walls()` (instantaneous ones,
+/// or means over an interval from Wall::impulse); empty means the instantaneous reactions.
+BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions = {});
+
+}  // namespace granular
