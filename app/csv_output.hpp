@@ -1,0 +1,46 @@
+#pragma once
+/// CSV files written by `granular run`: the time series, particle states (snapshots and the final
+/// state) and helpers shared by them. Numbers are written in the shortest form that reads back to
+/// the same double, so no precision is lost.
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "granular/simulation.hpp"
+
+namespace granular::app {
+
+/// A file that cannot be created or written (exit status 1).
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Shortest round-trip decimal of x ("0.1", "1e-05").
+std::string csvNumber(double x);
+
+/// One row per sample: stage, time, step, the energy balance, contact counts and every wall's
+/// reaction. Each row is flushed at once so that a crash loses nothing already sampled.
+class TimeSeriesWriter {
+ public:
+  /// `walls` fixes the reaction columns; a wall that does not exist yet (the top wall before
+  /// it is placed) gets empty cells.
+  TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls);
+  void write(const std::string& stage, const Simulation& sim);
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::vector<std::string> walls_;
+};
+
+/// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into
+/// place, so a reader never sees half a file.
+void writeParticleState(const std::filesystem::path& path, const Particles& particles);
+
+/// Writes `text` to `path` through a temporary file and a rename.
+void writeTextFile(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace granular::app

@@ -1,0 +1,136 @@
+/// Timings of Simulation::step() on a dense random packing in a box under gravity.
+///
+/// Cases: 2000 and 100000 spheres of the paper's material (Material{} defaults, radii
+/// 0.030–0.035 m, Δt = 1e-4 s), Gear5 and velocity Verlet, frictionless (μ = 0) and frictional
+/// (μ = 0.3). Each case starts from a packing (denseRandomPacking, open-top box) that has fallen
+/// for `settle` steps under gravity; building and settling are not timed, and the settled beds
+/// are cached so that both integrators and every repetition start from the same state. Each
+/// repetition times a fixed number of steps (2000 for n = 2000, 50 for n = 10⁵), three
+/// repetitions, aggregates reported.
+///
+/// Counters:
+///   particle_steps_per_s          particles × steps per second of wall time (the figure to quote)
+///   contacts_per_particle         (2·particle contacts + wall contacts) / n, mean over the steps
+///   neighbour_pairs_per_particle  candidate pairs in the neighbour list / n, mean over the steps
+///
+/// Run: build/release/bench/granular_bench [--benchmark_filter=...]; see bench/RESULTS.md.
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <exception>
+#include <map>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "granular/packings.hpp"
+#include "granular/scene.hpp"
+#include "granular/simulation.hpp"
+
+namespace {
+
+using granular::Integrator;
+
+constexpr double kRadiusMin = 0.030;  // the paper's radii [m]
+constexpr double kRadiusMax = 0.035;
+constexpr double kTimeStep = 1e-4;  // [s]
+constexpr std::uint64_t kSeed = 20261123;
+
+granular::SimulationConfig makeConfig(Integrator integrator, double friction) {
+  granular::SimulationConfig config;
+  config.material.friction = friction;
+  config.integrator = integrator;
+  config.timeStep = kTimeStep;
+  return config;
+}
+
+struct Bed {
+  granular::Particles particles;
+  std::vector<granular::Wall> walls;
+};
+
+/// The packing after `settleSteps` steps under gravity (velocity Verlet), built once per
+/// (n, settleSteps, friction).
+const Bed& settledBed(std::size_t n, std::uint64_t settleSteps, double friction) {
+  static std::map<std::tuple<std::size_t, std::uint64_t, double>, Bed> cache;
+  const auto key = std::make_tuple(n, settleSteps, friction);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+
+  granular::BoxSpec box;
+  granular::Particles particles = granular::denseRandomPacking(
+      n, kRadiusMin, kRadiusMax, granular::Material{}.density, kSeed, &box);
+  granular::Simulation sim(std::move(particles), granular::buildWalls(box),
+                           makeConfig(Integrator::VelocityVerlet, friction));
+  sim.run(settleSteps);
+  return cache.emplace(key, Bed{sim.particles(), sim.walls()}).first->second;
+}
+
+/// Times `step()`; state.range(0) = n, state.range(1) = settle steps.
+void stepBenchmark(benchmark::State& state, Integrator integrator, double friction) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const auto settleSteps = static_cast<std::uint64_t>(state.range(1));
+  try {
+    const Bed& bed = settledBed(n, settleSteps, friction);
+    granular::Simulation sim(bed.particles, bed.walls, makeConfig(integrator, friction));
+
+    // The bed keeps moving while it is timed, so the contact counts are averaged over the timed
+    // steps (reading two counters costs nothing next to a step).
+    std::uint64_t contactEnds = 0, neighbourPairs = 0;
+    for (auto _ : state) {
+      sim.step();
+      const granular::StepCounters& c = sim.counters();
+      contactEnds += 2 * c.particleContacts + c.wallContacts;
+      neighbourPairs += c.neighbourPairs;
+    }
+
+    const double count = static_cast<double>(n);
+    const double steps = static_cast<double>(state.iterations());
+    state.counters["particle_steps_per_s"] =
+        benchmark::Counter(count * steps, benchmark::Counter::kIsRate);
+    state.counters["contacts_per_particle"] = static_cast<double>(contactEnds) / (count * steps);
+    state.counters["neighbour_pairs_per_particle"] =
+        static_cast<double>(neighbourPairs) / (count * steps);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  struct Case {
+    std::int64_t n;            // particles
+    std::int64_t settleSteps;  // untimed steps before timing
+    std::int64_t steps;        // timed steps (fixed, so every run does the same work)
+  };
+  // settle 200 (0.02 s): the lattice has just started to fall, few contacts; settle 5000
+  // (0.5 s): the 2000-sphere bed has landed (the paper's stage-2 load), the 10⁵ bed (3 m tall)
+  // is landing from the bottom up.
+  const Case cases[] = {
+      {2000, 200, 2000}, {2000, 5000, 2000}, {100000, 200, 50}, {100000, 5000, 50}};
+  const std::pair<Integrator, const char*> integrators[] = {
+      {Integrator::Gear5, "Gear5"}, {Integrator::VelocityVerlet, "VelocityVerlet"}};
+  const std::pair<double, const char*> frictions[] = {{0.0, "frictionless"}, {0.3, "frictional"}};
+
+  for (const Case& c : cases) {
+    for (const auto& [friction, frictionName] : frictions) {
+      for (const auto& [integrator, integratorName] : integrators) {
+        const std::string name = std::string("step/") + integratorName + "/" + frictionName;
+        auto* b = benchmark::RegisterBenchmark(
+            name.c_str(), [integrator = integrator, friction = friction](benchmark::State& s) {
+              stepBenchmark(s, integrator, friction);
+            });
+        b->ArgNames({"n", "settle"})->Args({c.n, c.settleSteps});
+        b->Iterations(c.steps)->Repetitions(3)->ReportAggregatesOnly(true);
+        b->Unit(benchmark::kMillisecond);
+      }
+    }
+  }
+
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

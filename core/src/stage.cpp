@@ -1,0 +1,139 @@
+/// runStage: a stage's set-up (clock, top wall, wall velocities), then stepping to its end
+/// condition while calling the observer at the output interval and at snapshot times.
+///
+/// Time inside a stage is n·Δt, n the steps taken since the stage began: it starts at 0 whether
+/// or not the simulation's clock was reset, and it does not collect the round-off of a running
+/// sum. Comparisons against it carry a tolerance of 1e-6·Δt, so that a sample due at exactly
+/// k·interval is taken at the step that lands there and not one step late.
+#include "granular/stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "granular/error.hpp"
+
+namespace granular {
+
+namespace {
+
+/// The top wall of the paper's stage 2: a plane touching the highest particle, normal down.
+void placeTopWall(Simulation& sim, const StageSpec& stage) {
+  if (sim.findWall("top") >= 0) {
+    throw ConfigError("stage '" + stage.name +
+                      "': cannot place the top wall on the surface: a wall named 'top' exists");
+  }
+  const Particles& particles = sim.particles();
+  if (particles.size() == 0) {
+    throw ConfigError("stage '" + stage.name + "': no particles to place the top wall on");
+  }
+  double surface = particles.position[0].z() + particles.radius[0];
+  for (std::size_t i = 1; i < particles.size(); ++i) {
+    surface = std::max(surface, particles.position[i].z() + particles.radius[i]);
+  }
+  Wall top;
+  top.name = "top";
+  top.point = Vec3(0.0, 0.0, surface);
+  top.normal = -Vec3::UnitZ();
+  sim.addWall(top);
+}
+
+/// Every wall not named by the stage is at rest during it: a stage describes the whole wall
+/// motion, so a hold stage after a compaction does not inherit the compaction's velocity.
+void applyWallMotions(Simulation& sim, const StageSpec& stage) {
+  for (std::size_t w = 0; w < sim.walls().size(); ++w) sim.setWallVelocity(w, Vec3::Zero());
+  for (const WallMotion& motion : stage.wallMotions) {
+    const long index = sim.findWall(motion.wall);
+    if (index < 0) {
+      throw ConfigError("stage '" + stage.name + "': no wall named '" + motion.wall + "' to move");
+    }
+    sim.setWallVelocity(std::size_t(index), motion.velocity);
+  }
+}
+
+/// Fires onSample every output interval and onSnapshot once per snapshot time.
+class StageClock {
+ public:
+  StageClock(const OutputSpec& output, const StageObserver& observer, double timeStep)
+      : output_(output),
+        observer_(observer),
+        tolerance_(1e-6 * timeStep),
+        snapshots_(output.snapshotTimes) {
+    std::sort(snapshots_.begin(), snapshots_.end());
+    snapshots_.erase(std::unique(snapshots_.begin(), snapshots_.end()), snapshots_.end());
+  }
+
+  /// Called at the stage start (t = 0) and after every step with the stage time t [s].
+  void observe(const Simulation& sim, double t) {
+    // The sample index is an integer: k·interval is compared, never a running sum of intervals.
+    if (t + tolerance_ >= double(nextSample_) * output_.interval) {
+      if (observer_.onSample) observer_.onSample(sim);
+      nextSample_ = std::uint64_t(std::floor((t + tolerance_) / output_.interval)) + 1;
+    }
+    while (nextSnapshot_ < snapshots_.size() && snapshots_[nextSnapshot_] <= t + tolerance_) {
+      if (observer_.onSnapshot) observer_.onSnapshot(sim, snapshots_[nextSnapshot_]);
+      ++nextSnapshot_;
+    }
+  }
+
+ private:
+  const OutputSpec& output_;
+  const StageObserver& observer_;
+  double tolerance_;
+  std::vector<double> snapshots_;
+  std::uint64_t nextSample_ = 0;
+  std::size_t nextSnapshot_ = 0;
+};
+
+}  // namespace
+
+StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& output,
+                     const StageObserver& observer) {
+  if (!(output.interval > 0.0)) throw ConfigError("output interval must be > 0");
+  if (!(stage.end.maxTime > 0.0)) {
+    throw ConfigError("stage '" + stage.name + "': max time must be > 0");
+  }
+  if (stage.resetClock) sim.setTime(0.0);
+  if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
+  applyWallMotions(sim, stage);
+
+  const double dt = sim.config().timeStep;
+  const double tolerance = 1e-6 * dt;
+  StageClock clock(output, observer, dt);
+  clock.observe(sim, 0.0);
+
+  // Quasistatic end: the kinetic energy must stay below the threshold from `belowSince` on.
+  std::optional<double> belowSince;
+  auto quiet = [&](double t) {
+    if (!stage.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage.end.kineticEnergyBelow) {
+      belowSince.reset();
+      return false;
+    }
+    if (!belowSince) belowSince = t;
+    return t - *belowSince + tolerance >= stage.end.sustainTime;
+  };
+  quiet(0.0);  // the initial state counts towards the sustain time, but cannot end the stage
+
+  StageResult result;
+  std::uint64_t n = 0;
+  while (double(n) * dt + tolerance < stage.end.maxTime) {
+    sim.step();
+    ++n;
+    const double t = double(n) * dt;
+    clock.observe(sim, t);
+    if (observer.onProgress && observer.progressSteps > 0 && n % observer.progressSteps == 0) {
+      observer.onProgress(sim, stage);
+    }
+    if (quiet(t)) {
+      result.reason = StageEndReason::KineticEnergy;
+      break;
+    }
+  }
+  result.steps = n;
+  result.duration = double(n) * dt;
+  return result;
+}
+
+}  // namespace granular
