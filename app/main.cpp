@@ -1,8 +1,12 @@
 /// granular: the command line. Subcommands:
 ///   granular run SCENE.toml [--out DIR] [--quiet]
+///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
+///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]
 /// Exit status: 0 done, 1 I/O error, 2 invalid scene or configuration (or bad arguments).
 #include <CLI/CLI.hpp>
 
+#include "calibrate_command.hpp"
+#include "paper_command.hpp"
 #include "run_command.hpp"
 
 int main(int argc, char** argv) {
@@ -17,6 +21,33 @@ int main(int argc, char** argv) {
   runCommand->add_option("-o,--out", run.outDir, "Output folder (default: runs/<scene stem>)");
   runCommand->add_flag("-q,--quiet", run.quiet, "No progress lines on stderr");
 
+  granular::app::PaperOptions paper;
+  paper.scenesDir = GRANULAR_SCENES_DIR;
+  CLI::App* paperCommand = app.add_subcommand(
+      "paper", "Reproduce the paper: both friction cases, time series, stresses and report.md");
+  paperCommand->add_option("-o,--out", paper.outDir, "Output folder (default: runs/paper)");
+  paperCommand->add_option("--scenes", paper.scenesDir,
+                           "Folder of paper-mu0.toml and paper-mu03.toml (default: the installed "
+                           "assets/scenes)");
+  paperCommand->add_flag("--fresh", paper.fresh, "Settle again even if settled checkpoints exist");
+  paperCommand->add_flag("-q,--quiet", paper.quiet, "No progress lines on stderr");
+
+  granular::app::CalibrateOptions calibrate;
+  CLI::App* calibrateCommand =
+      app.add_subcommand("calibrate-box",
+                         "Settle stage 1 in square boxes of several sides; fit the side that gives "
+                         "a target settled height");
+  calibrateCommand->add_option("scene", calibrate.scene, "Scene file (its first stage settles)")
+      ->required();
+  calibrateCommand->add_option("--sides", calibrate.sides, "Box sides to try [m]")
+      ->required()
+      ->delimiter(',');
+  calibrateCommand->add_option("--target-height", calibrate.targetHeight,
+                               "Settled height to hit [m] (default 1.087, the paper's)");
+  calibrateCommand->add_option("--report", calibrate.report,
+                               "Also write the table here (markdown)");
+  calibrateCommand->add_flag("-q,--quiet", calibrate.quiet, "No progress lines on stderr");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -24,5 +55,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   if (*runCommand) return granular::app::runCommand(run);
+  if (*paperCommand) return granular::app::paperCommand(paper);
+  if (*calibrateCommand) return granular::app::calibrateCommand(calibrate);
   return 2;
 }

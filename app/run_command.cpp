@@ -1,5 +1,5 @@
 /// `granular run` (see run_command.hpp).
-/// Sections: 1. header; 2. output names; 3. running the stages; 4. summary; 5. error mapping.
+/// Sections: 1. output names; 2. running the stages; 3. summary.
 #include "run_command.hpp"
 
 #include <chrono>
@@ -14,74 +14,13 @@
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
+#include "run_header.hpp"
 
 namespace granular::app {
 
 namespace {
 
-std::string format(const char* pattern, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
-}
-
-double totalMass(const Particles& particles) {
-  double sum = 0.0;
-  for (double m : particles.mass) sum += m;
-  return sum;
-}
-
-// 1. Header ---------------------------------------------------------------------------------------
-
-void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
-                 const std::filesystem::path& outDir) {
-  const SimulationConfig& config = sim.config();
-  const ContactScale& contact = sim.contactScale();
-  const double dt = config.timeStep;
-  out << "scene       " << scene.sourceFile.string() << "\n";
-  out << "particles   " << sim.particles().size() << ", total mass "
-      << format("%.6g", totalMass(sim.particles())) << " kg (density "
-      << format("%.6g", config.material.density) << " kg/m³"
-      << (scene.totalMass ? ", scaled to the scene's total_mass" : "") << ")\n";
-  out << "integrator  " << (config.integrator == Integrator::Gear5 ? "gear5" : "verlet")
-      << ", dt = " << format("%.3g", dt) << " s\n";
-  out << "contact     stiffest " << (contact.againstWall ? "particle-wall" : "particle-particle")
-      << " (R = " << format("%.4g", contact.radius) << " m), duration "
-      << format("%.4g", contact.duration) << " s; dt = duration/"
-      << format("%.1f", contact.duration / dt) << "\n";
-  out << "friction    "
-      << (sim.frictional() ? "on (mu = " + format("%g", config.material.friction) +
-                                 "): tangential forces and rotations integrated"
-                           : std::string("off (mu = 0): no tangential forces, no rotations"))
-      << "\n";
-  out << "walls      ";
-  for (const Wall& wall : sim.walls()) out << " " << wall.name;
-  out << "\nstages     ";
-  for (const StageSpec& stage : scene.stages) {
-    out << " " << stage.name << " (<= " << format("%g", stage.end.maxTime) << " s)";
-  }
-  out << "\noutput      " << outDir.string() << " (sample every "
-      << format("%g", scene.output.interval) << " s)\n"
-      << std::flush;
-}
-
-// 2. Output names ---------------------------------------------------------------------------------
-
-/// The walls whose reactions the time series carries: the box's, plus the top wall if a stage
-/// will place it. Fixed before the run because CSV columns cannot be added later.
-std::vector<std::string> reactionWalls(const Scene& scene) {
-  std::vector<std::string> walls;
-  for (std::size_t f = 0; f < kBoxWallNames.size(); ++f) {
-    if (scene.box.walls[f]) walls.push_back(kBoxWallNames[f]);
-  }
-  for (const StageSpec& stage : scene.stages) {
-    if (stage.placeTopWallOnSurface && !scene.box.walls[5]) {
-      walls.push_back("top");
-      break;
-    }
-  }
-  return walls;
-}
+// 1. Output names ---------------------------------------------------------------------------------
 
 /// snapshot_<stage>_<time>.csv: the stage is part of the name because snapshot times are on
 /// each stage's own clock, so two stages can pass the same time.
@@ -100,7 +39,7 @@ const char* reasonText(StageEndReason reason) {
   return reason == StageEndReason::KineticEnergy ? "kinetic energy below threshold" : "max time";
 }
 
-// 3. Running the stages ---------------------------------------------------------------------------
+// 2. Running the stages ---------------------------------------------------------------------------
 
 struct StageReport {
   std::string name;
@@ -123,7 +62,7 @@ int runScene(const RunOptions& options) {
   std::filesystem::create_directories(outDir);
   printHeader(std::cout, scene, sim, outDir);
 
-  TimeSeriesWriter series(outDir / "timeseries.csv", reactionWalls(scene));
+  TimeSeriesWriter series(outDir / "timeseries.csv", reactionWallNames(scene));
   ProgressReporter progress(!options.quiet);
   std::vector<StageReport> reports;
   for (const StageSpec& stage : scene.stages) {
@@ -147,7 +86,7 @@ int runScene(const RunOptions& options) {
   }
   writeParticleState(outDir / "final_state.csv", sim.particles());
 
-  // 4. Summary
+  // 3. Summary
   // -------------------------------------------------------------------------------------
   std::ostringstream summary;
   summary << "scene: " << scene.sourceFile.string() << "\n"
@@ -169,27 +108,8 @@ int runScene(const RunOptions& options) {
 
 }  // namespace
 
-// 5. Error mapping --------------------------------------------------------------------------------
-
 int runCommand(const RunOptions& options) {
-  try {
-    return runScene(options);
-  } catch (const SceneError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const IoError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  }
+  return withErrorMapping([&] { return runScene(options); });
 }
 
 }  // namespace granular::app

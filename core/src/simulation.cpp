@@ -130,6 +130,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   s.energy.initialTangentialElastic = s.powers.elasticTangential;
 }
 
+Simulation::Simulation(std::unique_ptr<SimulationState> state) : state_(std::move(state)) {}
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
 Simulation& Simulation::operator=(Simulation&&) noexcept = default;
@@ -161,7 +162,7 @@ void Simulation::step() {
   }
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
-  s.time += dt;
+  ++s.stepsSinceOrigin;
   ++s.steps;
   // 3. Neighbours.
   if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls)) {
@@ -207,10 +208,12 @@ void Simulation::run(std::uint64_t steps) {
 // ---- Accessors and measurements -----------------------------------------------------------
 
 double Simulation::time() const {
-  return state_->time;
+  return state_->timeOrigin +
+         static_cast<double>(state_->stepsSinceOrigin) * state_->config.timeStep;
 }
 void Simulation::setTime(double t) {
-  state_->time = t;
+  state_->timeOrigin = t;
+  state_->stepsSinceOrigin = 0;
 }
 std::uint64_t Simulation::stepCount() const {
   return state_->steps;

@@ -79,7 +79,10 @@ struct SimulationState {
   SimulationConfig config;
   Particles particles;
   std::vector<Wall> walls;
-  double time = 0.0;
+  /// The clock is timeOrigin + stepsSinceOrigin·Δt rather than a running sum, so that sampled
+  /// times carry no accumulated round-off.
+  double timeOrigin = 0.0;
+  std::uint64_t stepsSinceOrigin = 0;
   std::uint64_t steps = 0;
   bool frictional = false;
   bool rebuildEveryStep = false;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "granular/error.hpp"
 
@@ -18,7 +20,73 @@ Mat3 volumeAveragedStress(const Simulation& sim, double volume) {
   return sum / volume;
 }
 
-BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions) {
+namespace {
+
+/// Lower and upper corners of the box: the side walls and floor, and the top wall or, without
+/// one, the highest particle surface.
+std::pair<Vec3, Vec3> boxCorners(const Simulation& sim) {
+  auto point = [&](const char* name) {
+    const long w = sim.findWall(name);
+    if (w < 0) throw ConfigError(std::string("measureBox: the box has no wall '") + name + "'");
+    return sim.walls()[w].point;
+  };
+  const Vec3 lower(point("x-").x(), point("y-").y(), point("bottom").z());
+  double zTop = lower.z();
+  if (sim.findWall("top") >= 0) {
+    zTop = point("top").z();
+  } else {
+    const Particles& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      zTop = std::max(zTop, p.position[i].z() + p.radius[i]);
+  }
+  return {lower, Vec3(point("x+").x(), point("y+").y(), zTop)};
+}
+
+}  // namespace
+
+BoxContactSums boxContactSums(const Simulation& sim) {
+  const auto [lower, upper] = boxCorners(sim);
+  std::vector<bool> side(sim.walls().size(), false);
+  for (const char* name : {"x-", "x+", "y-", "y+"}) side[sim.findWall(name)] = true;
+  const Particles& p = sim.particles();
+  BoxContactSums sums;
+  Mat3 sum = Mat3::Zero();
+  sim.forEachContact([&](const ContactView& c) {
+    sum += c.force * (c.point - p.position[c.particle]).transpose();
+    if (c.other < 0 && side[static_cast<std::size_t>(-c.other - 1)]) {
+      sums.sideFrictionMoment += c.force.z() * (c.point.z() - lower.z());
+    }
+  });
+  sums.eq1 = sum / (upper - lower).prod();
+  return sums;
+}
+
+BoxStress meanBoxStress(const std::vector<BoxStress>& samples) {
+  BoxStress m;
+  if (samples.empty()) return m;
+  const double w = 1.0 / static_cast<double>(samples.size());
+  for (const BoxStress& b : samples) {
+    m.lower += w * b.lower;
+    m.upper += w * b.upper;
+    m.volume += w * b.volume;
+    m.weight += w * b.weight;
+    m.topForce += w * b.topForce;
+    m.bottomForce += w * b.bottomForce;
+    m.sideMeanForce += w * b.sideMeanForce;
+    m.sideVerticalForce += w * b.sideVerticalForce;
+    m.balanceError += w * b.balanceError;
+    m.eq1 += w * b.eq1;
+    m.eq2 += w * b.eq2;
+    m.centreOfMassHeight += w * b.centreOfMassHeight;
+    m.sigma33CentreOfMassTerm += w * b.sigma33CentreOfMassTerm;
+    m.sigma33SideFrictionTerm += w * b.sigma33SideFrictionTerm;
+    m.sideFrictionMoment += w * b.sideFrictionMoment;
+  }
+  return m;
+}
+
+BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions,
+                     const BoxContactSums* sums) {
   const std::vector<Wall>& walls = sim.walls();
   auto reactionOf = [&](const char* name, bool required) -> Vec3 {
     const long w = sim.findWall(name);
@@ -29,7 +97,6 @@ BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions) 
     }
     return reactions.empty() ? walls[w].reaction : reactions.at(w);
   };
-  auto wallPoint = [&](const char* name) { return walls[sim.findWall(name)].point; };
   const Particles& p = sim.particles();
   const Vec3 g = sim.config().gravity;
 
@@ -37,19 +104,9 @@ BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions) 
   const Vec3 xMinus = reactionOf("x-", true), xPlus = reactionOf("x+", true);
   const Vec3 yMinus = reactionOf("y-", true), yPlus = reactionOf("y+", true);
   const Vec3 bottom = reactionOf("bottom", true);
-  const bool hasTop = sim.findWall("top") >= 0;
   const Vec3 top = reactionOf("top", false);
 
-  b.lower = Vec3(wallPoint("x-").x(), wallPoint("y-").y(), wallPoint("bottom").z());
-  double zTop = 0;
-  if (hasTop) {
-    zTop = wallPoint("top").z();
-  } else {
-    zTop = b.lower.z();
-    for (std::size_t i = 0; i < p.size(); ++i)
-      zTop = std::max(zTop, p.position[i].z() + p.radius[i]);
-  }
-  b.upper = Vec3(wallPoint("x+").x(), wallPoint("y+").y(), zTop);
+  std::tie(b.lower, b.upper) = boxCorners(sim);
   const Vec3 size = b.upper - b.lower;
   b.volume = size.prod();
 
@@ -69,7 +126,10 @@ BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions) 
   b.sideVerticalForce = -(xMinus.z() + xPlus.z() + yMinus.z() + yPlus.z());
   b.balanceError = (b.bottomForce - b.topForce + b.sideVerticalForce - b.weight) / b.weight;
 
-  b.eq1 = volumeAveragedStress(sim, b.volume);
+  const BoxContactSums now = sums ? BoxContactSums{} : boxContactSums(sim);
+  const BoxContactSums& contact = sums ? *sums : now;
+  b.eq1 = contact.eq1;
+  b.sideFrictionMoment = contact.sideFrictionMoment;
   // Eq. (2): σ_ii = -(push on the + face + push on the - face) / 2 / A_i, compression negative.
   const double areaX = size.y() * size.z(), areaY = size.x() * size.z(),
                areaZ = size.x() * size.y();
@@ -77,6 +137,7 @@ BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions) 
   b.eq2.y() = -(yPlus.y() - yMinus.y()) / (2.0 * areaY);
   b.eq2.z() = -(top.z() - bottom.z()) / (2.0 * areaZ);
   b.sigma33CentreOfMassTerm = b.weight / areaZ * (0.5 - b.centreOfMassHeight / size.z());
+  b.sigma33SideFrictionTerm = (b.sideFrictionMoment / size.z() - 0.5 * b.sideVerticalForce) / areaZ;
   return b;
 }
 

@@ -129,6 +129,8 @@ class Simulation {
   std::uint64_t stateHash() const;
 
  private:
+  friend struct SimulationAccess;  // checkpoint I/O (core/src/checkpoint.cpp)
+  explicit Simulation(std::unique_ptr<SimulationState> state);
   std::unique_ptr<SimulationState> state_;
 };
 

@@ -13,6 +13,15 @@ namespace granular {
 /// l^c = C - x_i the branch vector from its centre to the contact point [Pa].
 Mat3 volumeAveragedStress(const Simulation& sim, double volume);
 
+/// The contact sums a box measurement needs; linear in the contact forces, so they may be
+/// averaged over time like the reactions.
+struct BoxContactSums {
+  Mat3 eq1 = Mat3::Zero();  ///< σ of Eq. (1) over the box volume [Pa]
+  /// Σ over side-wall contacts of F_z (z_c - z_floor): the moment about the floor of the
+  /// vertical (friction) forces the side walls put on the particles [N m].
+  double sideFrictionMoment = 0;
+};
+
 /// The box and what its walls carry, for the paper's Figs. 4, 5, 7 and 8.
 struct BoxStress {
   Vec3 lower = Vec3::Zero();  ///< corner at the x-, y- and bottom walls [m]
@@ -31,11 +40,25 @@ struct BoxStress {
   /// The part of σ33(Eq. 1) - σ33(Eq. 2) a static frictionless bed has exactly,
   /// (W/A)(1/2 - z_cm/H) (design §3); the rest of the difference is the remainder [Pa].
   double sigma33CentreOfMassTerm = 0;
+  /// The further part a static bed has when the side walls carry weight by friction: with S
+  /// their upward force acting at mean height z_S, (S/A)(z_S/H - 1/2) = (M/H - S/2)/A, M the
+  /// sideFrictionMoment. Zero for a frictionless bed [Pa].
+  double sigma33SideFrictionTerm = 0;
+  double sideFrictionMoment = 0;  ///< see BoxContactSums [N m]
 };
+
+/// Eq. (1) and the side-wall friction moment of the box of `sim` at the current state.
+BoxContactSums boxContactSums(const Simulation& sim);
 
 /// Measures the box of `sim`, whose walls are named as in kBoxWallNames. `reactions` are the wall
 /// forces to use for Eq. (2) and the balance, one per wall of `sim.walls()` (instantaneous ones,
 /// or means over an interval from Wall::impulse); empty means the instantaneous reactions.
-BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions = {});
+/// `sums` are the contact sums to report (time averages); null evaluates them now.
+BoxStress measureBox(const Simulation& sim, const std::vector<Vec3>& reactions = {},
+                     const BoxContactSums* sums = nullptr);
+
+/// The field-by-field mean of several measurements (all fields are linear in the forces, or
+/// constant) [same units as BoxStress].
+BoxStress meanBoxStress(const std::vector<BoxStress>& samples);
 
 }  // namespace granular

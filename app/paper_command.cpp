@@ -1,0 +1,217 @@
+/// `granular paper` (paper_command.hpp). Sections: 1. files of a case; 2. one case; 3. both and
+/// the report.
+#include "paper_command.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "csv_output.hpp"
+#include "granular/checkpoint.hpp"
+#include "granular/compaction.hpp"
+#include "paper_report.hpp"
+#include "progress.hpp"
+#include "run_header.hpp"
+
+namespace granular::app {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// 1. Files of a case ------------------------------------------------------------------------------
+
+/// compaction_stress.csv: one row per output interval of stage 2 (averaged over the interval).
+void writeStressSeries(const std::filesystem::path& path, const CompactionResult& r) {
+  std::ostringstream out;
+  out << "time_s,top_wall_height_m,R33_top_N,R33_bottom_N,side_mean_R_N,side_vertical_N,weight_N,"
+         "balance_error";
+  for (const char* eq : {"eq1"}) {
+    for (int i = 1; i <= 3; ++i) {
+      for (int j = 1; j <= 3; ++j) out << ",s" << i << j << '_' << eq << "_Pa";
+    }
+  }
+  out << ",s11_eq2_Pa,s22_eq2_Pa,s33_eq2_Pa,z_cm_m,s33_cm_term_Pa\n";
+  for (const CompactionSample& s : r.samples) {
+    const BoxStress& b = s.box;
+    out << csvNumber(s.time) << ',' << csvNumber(b.upper.z() - b.lower.z()) << ','
+        << csvNumber(b.topForce) << ',' << csvNumber(b.bottomForce) << ','
+        << csvNumber(b.sideMeanForce) << ',' << csvNumber(b.sideVerticalForce) << ','
+        << csvNumber(b.weight) << ',' << csvNumber(b.balanceError);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) out << ',' << csvNumber(b.eq1(i, j));
+    }
+    out << ',' << csvNumber(b.eq2.x()) << ',' << csvNumber(b.eq2.y()) << ',' << csvNumber(b.eq2.z())
+        << ',' << csvNumber(b.centreOfMassHeight) << ',' << csvNumber(b.sigma33CentreOfMassTerm)
+        << '\n';
+  }
+  writeTextFile(path, out.str());
+}
+
+void writeSettleHistory(const std::filesystem::path& path, const CompactionResult& r) {
+  std::ostringstream out;
+  out << "time_s,kinetic_J\n";
+  for (const SettleSample& s : r.settleHistory) {
+    out << csvNumber(s.time) << ',' << csvNumber(s.kinetic) << '\n';
+  }
+  writeTextFile(path, out.str());
+}
+
+/// settle_summary.txt: "key = value" lines, read back when stage 1 is restored.
+void writeSettleSummary(const std::filesystem::path& path, const SettleSummary& s) {
+  std::ostringstream out;
+  out << "ended_by = " << s.endedBy << "\nduration_s = " << csvNumber(s.duration)
+      << "\nsteps = " << csvNumber(s.steps) << "\nwall_seconds = " << csvNumber(s.wallSeconds)
+      << "\nfinal_kinetic_J = " << csvNumber(s.finalKinetic)
+      << "\nthreshold_J = " << csvNumber(s.threshold) << "\nsustain_s = " << csvNumber(s.sustain)
+      << "\ncap_s = " << csvNumber(s.cap) << '\n';
+  writeTextFile(path, out.str());
+}
+
+std::optional<SettleSummary> readSettleSummary(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  std::map<std::string, std::string> kv;
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  try {
+    SettleSummary s;
+    s.endedBy = kv.at("ended_by");
+    s.duration = std::stod(kv.at("duration_s"));
+    s.steps = std::stod(kv.at("steps"));
+    s.wallSeconds = std::stod(kv.at("wall_seconds"));
+    s.finalKinetic = std::stod(kv.at("final_kinetic_J"));
+    s.threshold = std::stod(kv.at("threshold_J"));
+    s.sustain = std::stod(kv.at("sustain_s"));
+    s.cap = std::stod(kv.at("cap_s"));
+    return s;
+  } catch (const std::exception&) {
+    return std::nullopt;  // damaged: the report says the settle details are unknown
+  }
+}
+
+/// stress_t1.csv: σ_ij of Eq. (1) and the diagonal of Eq. (2) at the end of stage 2.
+void writeFinalStress(const std::filesystem::path& path, const BoxStress& b) {
+  std::ostringstream out;
+  out << "row,eq1_col1_Pa,eq1_col2_Pa,eq1_col3_Pa,eq2_diagonal_Pa\n";
+  for (int i = 0; i < 3; ++i) {
+    out << i + 1 << ',' << csvNumber(b.eq1(i, 0)) << ',' << csvNumber(b.eq1(i, 1)) << ','
+        << csvNumber(b.eq1(i, 2)) << ',' << csvNumber(b.eq2[i]) << '\n';
+  }
+  writeTextFile(path, out.str());
+}
+
+// 2. One case -------------------------------------------------------------------------------------
+
+CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
+                    ProgressReporter& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::filesystem::path sceneFile = options.scenesDir / ref.scene;
+  const Scene scene = loadScene(sceneFile);
+  const std::filesystem::path dir = options.outDir / ref.name;
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path checkpoint = dir / "settled.ckpt";
+  if (options.fresh) std::filesystem::remove(checkpoint);
+
+  CaseOutcome outcome;
+  outcome.reference = &ref;
+  std::unique_ptr<TimeSeriesWriter> settleSeries;  // opened only if stage 1 really runs
+  TimeSeriesWriter compactSeries(dir / "compaction_timeseries.csv", reactionWallNames(scene));
+  const StageSpec& settleStage = scene.stages.at(0);
+
+  CompactionOptions run;
+  run.checkpoint = checkpoint;
+  run.fingerprint = fingerprintFile(sceneFile);
+  run.onStart = [&](const Simulation& sim) {
+    printHeader(std::cout, scene, sim, dir);
+    outcome.density = sim.config().material.density;
+    outcome.timeStep = sim.config().timeStep;
+    outcome.contactDuration = sim.contactScale().duration;
+    outcome.integrator =
+        sim.config().integrator == Integrator::Gear5 ? "Gear 5th order" : "velocity Verlet";
+    outcome.boxSide =
+        sim.walls()[sim.findWall("x+")].point.x() - sim.walls()[sim.findWall("x-")].point.x();
+  };
+  run.onSample = [&](const Simulation& sim, const std::string& stage) {
+    if (stage == settleStage.name) {
+      if (!settleSeries) {
+        settleSeries = std::make_unique<TimeSeriesWriter>(dir / "settle_timeseries.csv",
+                                                          reactionWallNames(scene));
+      }
+      settleSeries->write(stage, sim);
+    } else {
+      compactSeries.write(stage, sim);
+    }
+  };
+  run.onProgress = [&](const Simulation& sim, const StageSpec& stage) {
+    progress.update(sim, stage);
+  };
+  outcome.result = runCompaction(scene, run);
+  progress.finish();
+
+  const CompactionResult& r = outcome.result;
+  if (!r.settleRestored) {
+    SettleSummary& s = outcome.settle;
+    s.endedBy = r.settle.reason == StageEndReason::KineticEnergy ? "kinetic energy below threshold"
+                                                                 : "max time";
+    s.duration = r.settle.duration;
+    s.steps = static_cast<double>(r.settle.steps);
+    s.wallSeconds = r.settleWallSeconds;
+    s.finalKinetic = r.settleHistory.empty() ? 0.0 : r.settleHistory.back().kinetic;
+    s.threshold = settleStage.end.kineticEnergyBelow.value_or(0.0);
+    s.sustain = settleStage.end.sustainTime;
+    s.cap = settleStage.end.maxTime;
+    writeSettleSummary(dir / "settle_summary.txt", s);
+    writeSettleHistory(dir / "settle_kinetic.csv", r);
+  } else if (auto saved = readSettleSummary(dir / "settle_summary.txt")) {
+    outcome.settle = *saved;
+  } else {
+    outcome.settle.endedBy = "unknown (restored from a checkpoint without settle_summary.txt)";
+  }
+  std::cout << "stage 1 (" << settleStage.name << "): "
+            << (r.settleRestored
+                    ? "restored from " + checkpoint.string()
+                    : outcome.settle.endedBy + " after " + format("%.4g", r.settle.duration) +
+                          " s simulated (" + format("%.1f", r.settleWallSeconds) + " s wall-clock)")
+            << "; settled height " << format("%.4f", r.settledHeight) << " m\n";
+  std::cout << "stage 2 (" << scene.stages[1].name << "): " << format("%.4g", r.compact.duration)
+            << " s simulated (" << format("%.1f", r.compactWallSeconds) << " s wall-clock); strain "
+            << format("%.2f", 1000 * r.strain) << " per mille\n";
+  writeStressSeries(dir / "compaction_stress.csv", r);
+  writeFinalStress(dir / "stress_t1.csv", r.samples.back().box);
+  outcome.wallSeconds = secondsSince(start);
+  return outcome;
+}
+
+// 3. Both cases and the report --------------------------------------------------------------------
+
+int runPaper(const PaperOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  std::filesystem::create_directories(options.outDir);
+  ProgressReporter progress(!options.quiet);
+  std::vector<CaseOutcome> cases;
+  for (const PaperReference& ref : kPaperCases) {
+    std::cout << "\n== case " << ref.name << " (mu = " << ref.friction << ") ==\n";
+    cases.push_back(runCase(ref, options, progress));
+  }
+  const double total = secondsSince(start);
+  writeTextFile(options.outDir / "report.md", paperReport(cases, total));
+  std::cout << "\nwrote " << (options.outDir / "report.md").string() << " ("
+            << format("%.1f", total) << " s wall-clock)\n";
+  return 0;
+}
+
+}  // namespace
+
+int paperCommand(const PaperOptions& options) {
+  return withErrorMapping([&] { return runPaper(options); });
+}
+
+}  // namespace granular::app

@@ -1,0 +1,18 @@
+#pragma once
+/// `granular paper`: the paper's numerical experiment for μ = 0 and μ = 0.3, from scratch or from
+/// the settled checkpoints, with time series, the t = 1 s stress tensors and report.md.
+#include <filesystem>
+
+namespace granular::app {
+
+struct PaperOptions {
+  std::filesystem::path outDir = "runs/paper";  ///< output folder
+  std::filesystem::path scenesDir;              ///< folder of paper-mu0.toml, paper-mu03.toml
+  bool fresh = false;                           ///< ignore settled checkpoints
+  bool quiet = false;                           ///< no progress lines
+};
+
+/// Exit status as for `granular run`.
+int paperCommand(const PaperOptions& options);
+
+}  // namespace granular::app

@@ -1,0 +1,351 @@
+/// report.md of `granular paper` (paper_report.hpp). Sections: 1. numbers derived from a case;
+/// 2. tables; 3. targets; 4. the report.
+#include "paper_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <sstream>
+#include <thread>
+
+#include "run_header.hpp"
+
+namespace granular::app {
+namespace {
+
+// 1. Numbers derived from a case ------------------------------------------------------------------
+
+/// What the report states about the end of stage 2.
+/// The window at the end of stage 2 over which the t = 1 s values are averaged [s]: ten contact
+/// durations, so that the fluctuation of the bed's momentum (the balance error is exactly
+/// M·a_cm/W) averages out, as the paper's "averaged reaction forces" ask.
+constexpr double kEndWindow = 0.1;
+
+struct Derived {
+  BoxStress end;          ///< mean over the last kEndWindow of stage 2
+  double maxBalance = 0;  ///< max |balance error| over stage 2 after its first interval
+  double rel11 = 0, rel22 = 0, rel33 = 0;  ///< (Eq. 1 - Eq. 2) / |Eq. 2|
+  double cmTerm = 0, remainder33 = 0;      ///< σ33 difference split, relative to |Eq. 2|
+  double sideTerm = 0, residual33 = 0;     ///< the remainder split further (frictional walls)
+  double lastBalance = 0;                  ///< balance error over the last output interval alone
+  double maxShearRatio = 0;                ///< max |σ_ij|, i != j, over the mean |σ_ii| (Eq. 1)
+  double sideShare = 0;                    ///< side-wall vertical support / weight
+  double meanNormal = 0;                   ///< mean of the diagonal of Eq. (1) [Pa]
+};
+
+Derived derive(const CaseOutcome& c) {
+  Derived d;
+  const auto& samples = c.result.samples;
+  const double endTime = samples.back().time;
+  std::vector<BoxStress> window;
+  for (std::size_t k = 1; k < samples.size(); ++k) {
+    d.maxBalance = std::max(d.maxBalance, std::abs(samples[k].box.balanceError));
+    if (samples[k].time > endTime - kEndWindow + 1e-9) window.push_back(samples[k].box);
+  }
+  d.end = window.empty() ? samples.back().box : meanBoxStress(window);
+  d.lastBalance = samples.back().box.balanceError;
+  const BoxStress& b = d.end;
+  d.rel11 = (b.eq1(0, 0) - b.eq2.x()) / std::abs(b.eq2.x());
+  d.rel22 = (b.eq1(1, 1) - b.eq2.y()) / std::abs(b.eq2.y());
+  d.rel33 = (b.eq1(2, 2) - b.eq2.z()) / std::abs(b.eq2.z());
+  d.cmTerm = b.sigma33CentreOfMassTerm / std::abs(b.eq2.z());
+  d.remainder33 = d.rel33 - d.cmTerm;
+  d.sideTerm = b.sigma33SideFrictionTerm / std::abs(b.eq2.z());
+  d.residual33 = d.remainder33 - d.sideTerm;
+  d.meanNormal = (b.eq1(0, 0) + b.eq1(1, 1) + b.eq1(2, 2)) / 3.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (i != j) d.maxShearRatio = std::max(d.maxShearRatio, std::abs(b.eq1(i, j)));
+    }
+  }
+  d.maxShearRatio /= std::abs(d.meanNormal);
+  d.sideShare = b.sideVerticalForce / b.weight;
+  return d;
+}
+
+std::string pct(double x, const char* pattern = "%+.2f %%") {
+  return format(pattern, 100 * x);
+}
+
+// 2. Tables ---------------------------------------------------------------------------------------
+
+void tensorTable(std::ostringstream& out, const CaseOutcome& c, const Derived& d) {
+  const auto& paper = c.reference->stress;
+  out << "| σ_ij [Pa], ours (paper) | j = 1 | j = 2 | j = 3 |\n|---|---|---|---|\n";
+  for (int i = 0; i < 3; ++i) {
+    out << "| i = " << i + 1;
+    for (int j = 0; j < 3; ++j) {
+      out << " | " << format("%.1f", d.end.eq1(i, j)) << " (" << format("%.1f", paper[i][j]) << ")";
+    }
+    out << " |\n";
+  }
+  out << "\nEq. (2) from the averaged face reactions: σ11 = " << format("%.1f", d.end.eq2.x())
+      << ", σ22 = " << format("%.1f", d.end.eq2.y()) << ", σ33 = " << format("%.1f", d.end.eq2.z())
+      << " Pa.\n\n";
+}
+
+// 3. Targets --------------------------------------------------------------------------------------
+
+struct Target {
+  std::string text;
+  bool met;
+};
+
+std::vector<Target> targets(const std::vector<CaseOutcome>& cases, const std::vector<Derived>& d,
+                            double totalWall) {
+  std::vector<Target> t;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string mu = "μ = " + format("%g", cases[k].reference->friction);
+    t.push_back({mu + ": vertical balance error at t = 1 s " + pct(d[k].end.balanceError) +
+                     " (target ≤ 0.5 %)",
+                 std::abs(d[k].end.balanceError) <= 0.005});
+    t.push_back({mu + ": Eq. (1) vs Eq. (2) on σ11 " + pct(d[k].rel11) + ", σ22 " +
+                     pct(d[k].rel22) + " (target within 2 %)",
+                 std::abs(d[k].rel11) <= 0.02 && std::abs(d[k].rel22) <= 0.02});
+    t.push_back({mu + ": σ33 difference " + pct(d[k].rel33) + " = centre-of-mass term " +
+                     pct(d[k].cmTerm) + " + remainder " + pct(d[k].remainder33) +
+                     " (target: remainder within 2 %); the remainder is side-wall friction term " +
+                     pct(d[k].sideTerm) + " + residual " + pct(d[k].residual33),
+                 std::abs(d[k].remainder33) <= 0.02});
+    const auto& paper = cases[k].reference->stress;
+    if (cases[k].reference->friction == 0.0) {
+      double worst = 0;
+      for (int i = 0; i < 3; ++i) {
+        worst = std::max(worst, std::abs(d[k].end.eq1(i, i) - paper[i][i]) / std::abs(paper[i][i]));
+      }
+      t.push_back({mu + ": diagonal within " + pct(worst, "%.1f %%") +
+                       " of the paper's (target within 10 %)",
+                   worst <= 0.10});
+      t.push_back({mu + ": largest shear " + pct(d[k].maxShearRatio, "%.2f %%") +
+                       " of the mean normal stress (target < 1 %)",
+                   d[k].maxShearRatio < 0.01});
+    } else {
+      const Mat3& s = d[k].end.eq1;
+      const double ratio = s(0, 0) / s(1, 1);
+      t.push_back({mu + ": |σ33| > |σ11|, |σ22| (" + format("%.0f", std::abs(s(2, 2))) + " > " +
+                       format("%.0f", std::abs(s(0, 0))) + ", " +
+                       format("%.0f", std::abs(s(1, 1))) +
+                       " Pa) and σ11/σ22 = " + format("%.3f", ratio) + " ≈ 1",
+                   std::abs(s(2, 2)) > std::abs(s(0, 0)) && std::abs(s(2, 2)) > std::abs(s(1, 1)) &&
+                       std::abs(ratio - 1) < 0.1});
+      t.push_back({mu + ": side walls carry " + pct(d[k].sideShare, "%.1f %%") +
+                       " of the weight (paper ≈ 10 %)",
+                   d[k].sideShare > 0.0});
+    }
+  }
+  double fromScratch = totalWall;
+  for (const CaseOutcome& c : cases) {
+    if (c.result.settleRestored) fromScratch += c.settle.wallSeconds;
+  }
+  t.push_back({"whole `granular paper` from scratch " + format("%.0f", fromScratch) +
+                   " s wall-clock (target < 120 s)" +
+                   (fromScratch != totalWall ? " (this run restored stage 1 and took " +
+                                                   format("%.0f", totalWall) + " s)"
+                                             : std::string()),
+               fromScratch < 120});
+  return t;
+}
+
+}  // namespace
+
+// 4. The report -----------------------------------------------------------------------------------
+
+std::string paperReport(const std::vector<CaseOutcome>& cases, double totalWallSeconds) {
+  std::vector<Derived> d;
+  for (const CaseOutcome& c : cases) d.push_back(derive(c));
+  std::ostringstream out;
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+
+  out << "# Reproduction of Balevičius & Markauskas (2007)\n\n"
+      << "Written by `granular paper` on " << date << "; " << format("%.1f", totalWallSeconds)
+      << " s wall-clock on " << std::thread::hardware_concurrency()
+      << " hardware threads (the engine runs on one). Stresses in Pa, compression negative, "
+         "as in the paper. The stage-2 values \"at t = 1 s\" are averages over its last "
+      << format("%g", kEndWindow)
+      << " s (ten contact durations): wall reactions exactly (from their impulses), Eq. (1) over "
+         "sub-samples; the paper asks for averaged reactions in Eq. (2).\n\n";
+
+  out << "## Set-up\n\n| | ";
+  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " | ";
+  out << "\n|---|";
+  for (std::size_t k = 0; k < cases.size(); ++k) out << "---|";
+  out << "\n";
+  auto row = [&](const std::string& name, auto cell) {
+    out << "| " << name << " |";
+    for (std::size_t k = 0; k < cases.size(); ++k) out << " " << cell(k) << " |";
+    out << "\n";
+  };
+  row("particles, total mass", [&](std::size_t k) {
+    return std::to_string(cases[k].result.particles) + ", " +
+           format("%.2f", cases[k].result.totalMass) + " kg";
+  });
+  row("density (scaled to the mass)",
+      [&](std::size_t k) { return format("%.2f", cases[k].density) + " kg/m³"; });
+  row("box side", [&](std::size_t k) { return format("%.4f", cases[k].boxSide) + " m"; });
+  row("integrator, Δt", [&](std::size_t k) {
+    return cases[k].integrator + ", " + format("%.3g", cases[k].timeStep) + " s";
+  });
+  row("contact duration (stiffest)", [&](std::size_t k) {
+    return format("%.4g", cases[k].contactDuration) +
+           " s = " + format("%.0f", cases[k].contactDuration / cases[k].timeStep) + " Δt";
+  });
+
+  out << "\n## Stage 1: settling under gravity\n\n| | ";
+  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " | ";
+  out << "\n|---|";
+  for (std::size_t k = 0; k < cases.size(); ++k) out << "---|";
+  out << "\n";
+  row("end criterion", [&](std::size_t k) {
+    const SettleSummary& s = cases[k].settle;
+    return "KE < " + format("%g", s.threshold) + " J for " + format("%g", s.sustain) + " s, cap " +
+           format("%g", s.cap) + " s";
+  });
+  row("ended by", [&](std::size_t k) { return cases[k].settle.endedBy; });
+  row("simulated time",
+      [&](std::size_t k) { return format("%.3f", cases[k].settle.duration) + " s"; });
+  row("wall-clock", [&](std::size_t k) {
+    return format("%.1f", cases[k].settle.wallSeconds) + " s" +
+           (cases[k].result.settleRestored ? " (earlier run; restored from settled.ckpt)" : "");
+  });
+  row("solid fraction of the settled bed", [&](std::size_t k) {
+    const double solid = cases[k].result.totalMass / cases[k].density;
+    return format("%.3f",
+                  solid / (cases[k].boxSide * cases[k].boxSide * cases[k].result.settledHeight));
+  });
+  row("settled height, ours (paper)", [&](std::size_t k) {
+    return format("%.4f", cases[k].result.settledHeight) + " m (" +
+           format("%.3f", cases[k].reference->settledHeight) + " m)";
+  });
+  out << "\nKinetic-energy histories: ";
+  for (const CaseOutcome& c : cases)
+    out << "[" << c.reference->name << "/settle_kinetic.csv](" << c.reference->name
+        << "/settle_kinetic.csv) ";
+  out << "(figures come with the renderer).\n";
+
+  out << "\n## Stage 2 at t = 1 s: ours beside the paper\n\n";
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    out << "### μ = " << cases[k].reference->friction << "\n\n";
+    tensorTable(out, cases[k], d[k]);
+  }
+  out << "| quantity | ";
+  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " ours | paper | ";
+  out << "\n|---|";
+  for (std::size_t k = 0; k < cases.size(); ++k) out << "---|---|";
+  out << "\n";
+  auto pair = [&](const std::string& name, auto ours, auto paper) {
+    out << "| " << name << " |";
+    for (std::size_t k = 0; k < cases.size(); ++k)
+      out << " " << ours(k) << " | " << paper(k) << " |";
+    out << "\n";
+  };
+  pair(
+      "vertical strain of stage 2",
+      [&](std::size_t k) { return format("%.2f ‰", 1000 * cases[k].result.strain); },
+      [&](std::size_t k) { return format("%.1f ‰", cases[k].reference->strainPerMille); });
+  pair(
+      "vertical balance error, t = 1 s (last 0.01 s alone; max of any 0.01 s in stage 2)",
+      [&](std::size_t k) {
+        return pct(d[k].end.balanceError) + " (" + pct(d[k].lastBalance) + "; " +
+               pct(d[k].maxBalance, "%.2f %%") + ")";
+      },
+      [&](std::size_t k) { return std::string(cases[k].reference->balance); });
+  pair(
+      "Eq. (1) − Eq. (2), σ11 / σ22",
+      [&](std::size_t k) { return pct(d[k].rel11) + " / " + pct(d[k].rel22); },
+      [&](std::size_t) { return std::string("-"); });
+  pair(
+      "Eq. (1) − Eq. (2), σ33 = c.o.m. term + remainder",
+      [&](std::size_t k) {
+        return pct(d[k].rel33) + " = " + pct(d[k].cmTerm) + " + " + pct(d[k].remainder33);
+      },
+      [&](std::size_t k) { return std::string(cases[k].reference->eq1VsEq2); });
+  pair(
+      "remainder = side-wall friction term + residual",
+      [&](std::size_t k) {
+        return pct(d[k].remainder33) + " = " + pct(d[k].sideTerm) + " + " + pct(d[k].residual33);
+      },
+      [&](std::size_t) { return std::string("-"); });
+  pair(
+      "largest shear / mean normal stress",
+      [&](std::size_t k) { return pct(d[k].maxShearRatio, "%.2f %%"); },
+      [&](std::size_t k) {
+        const auto& p = cases[k].reference->stress;
+        double shear = 0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            if (i != j) shear = std::max(shear, std::abs(p[i][j]));
+        return pct(shear / std::abs((p[0][0] + p[1][1] + p[2][2]) / 3), "%.2f %%");
+      });
+  pair(
+      "weight carried by the side walls",
+      [&](std::size_t k) { return pct(d[k].sideShare, "%.1f %%"); },
+      [&](std::size_t k) {
+        return cases[k].reference->friction == 0 ? std::string("0 (frictionless)")
+                                                 : std::string("≈ 10 %");
+      });
+  pair(
+      "R33 top / R33 bottom / weight [N]",
+      [&](std::size_t k) {
+        return format("%.1f", d[k].end.topForce) + " / " + format("%.1f", d[k].end.bottomForce) +
+               " / " + format("%.1f", d[k].end.weight);
+      },
+      [&](std::size_t) { return std::string("Figs. 4, 7"); });
+  pair(
+      "wall-clock of this invocation",
+      [&](std::size_t k) { return format("%.1f", cases[k].wallSeconds) + " s"; },
+      [&](std::size_t) { return std::string("-"); });
+
+  out << "\n## Differences from the paper\n\n";
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const auto& p = cases[k].reference->stress;
+    const Mat3& s = d[k].end.eq1;
+    // σ33 ∝ W/A at a given z_cm/H: the footprint that would give the paper's σ33.
+    const double area = std::abs(s(2, 2) / p[2][2]);
+    out << "- μ = " << cases[k].reference->friction << ": σ11, σ22, σ33 differ from the paper's by "
+        << pct((s(0, 0) - p[0][0]) / std::abs(p[0][0]), "%+.1f %%") << ", "
+        << pct((s(1, 1) - p[1][1]) / std::abs(p[1][1]), "%+.1f %%") << ", "
+        << pct((s(2, 2) - p[2][2]) / std::abs(p[2][2]), "%+.1f %%")
+        << ". The weight is the paper's, and σ33 goes as W/A: the paper's σ33 corresponds to a "
+           "footprint "
+        << pct(std::abs(area - 1), "%.1f %%") << (area > 1 ? " larger" : " smaller")
+        << " than ours (side " << format("%.3f", cases[k].boxSide * std::sqrt(area))
+        << " m). The paper gives neither its box nor its packing fraction; ours is fitted to the "
+           "frictionless settled height alone, so a few per cent here is the difference between "
+           "two random packings' densities. The off-diagonal terms are the fluctuations of a "
+           "finite assembly of "
+        << cases[k].result.particles << " spheres (the paper's size), as the paper says.\n";
+  }
+  out << "- The σ33 difference between Eq. (1) and Eq. (2) is split exactly into the "
+         "centre-of-mass "
+         "term (W/A)(1/2 − z_cm/H), which any static bed has because Eq. (1) weighs each "
+         "particle's "
+         "weight by its height, and a remainder. When the side walls carry weight by friction "
+         "(upward force S acting at mean height z_S) a static bed has a second exact term, "
+         "(S/A)(z_S/H − 1/2), for the same reason; what is left after both, the residual, is the "
+         "bed's motion and the contact points' offsets from the wall planes.\n";
+
+  out << "\n## Targets\n\n";
+  for (const Target& t : targets(cases, d, totalWallSeconds)) {
+    out << "- [" << (t.met ? "x" : " ") << "] " << t.text << (t.met ? "" : " — **not met**")
+        << "\n";
+  }
+
+  out << "\n## Files\n\n";
+  for (const CaseOutcome& c : cases) {
+    const std::string n = c.reference->name;
+    out << "- `" << n
+        << "/compaction_stress.csv`: stage 2 every output interval: wall reactions "
+           "R33 top/bottom, mean side |R|, weight, balance error, σ of Eq. (1) (9 components), "
+           "Eq. (2) diagonal, z_cm and the σ33 centre-of-mass term; `"
+        << n << "/stress_t1.csv`: the tensors at t = 1 s; `" << n << "/settle_timeseries.csv`, `"
+        << n
+        << "/compaction_timeseries.csv`: energies, contacts, "
+           "wall reactions; `"
+        << n << "/settle_kinetic.csv`; `" << n << "/settled.ckpt`.\n";
+  }
+  return out.str();
+}
+
+}  // namespace granular::app

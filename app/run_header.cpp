@@ -1,0 +1,95 @@
+/// Shared pieces of the subcommands (run_header.hpp).
+#include "run_header.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "csv_output.hpp"
+#include "granular/checkpoint.hpp"
+#include "granular/error.hpp"
+
+namespace granular::app {
+
+std::string format(const char* pattern, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, pattern, value);
+  return buffer;
+}
+
+double totalMass(const Particles& particles) {
+  double sum = 0.0;
+  for (double m : particles.mass) sum += m;
+  return sum;
+}
+
+void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
+                 const std::filesystem::path& outDir) {
+  const SimulationConfig& config = sim.config();
+  const ContactScale& contact = sim.contactScale();
+  const double dt = config.timeStep;
+  out << "scene       " << scene.sourceFile.string() << "\n";
+  out << "particles   " << sim.particles().size() << ", total mass "
+      << format("%.6g", totalMass(sim.particles())) << " kg (density "
+      << format("%.6g", config.material.density) << " kg/m³"
+      << (scene.totalMass ? ", scaled to the scene's total_mass" : "") << ")\n";
+  out << "integrator  " << (config.integrator == Integrator::Gear5 ? "gear5" : "verlet")
+      << ", dt = " << format("%.3g", dt) << " s\n";
+  out << "contact     stiffest " << (contact.againstWall ? "particle-wall" : "particle-particle")
+      << " (R = " << format("%.4g", contact.radius) << " m), duration "
+      << format("%.4g", contact.duration) << " s; dt = duration/"
+      << format("%.1f", contact.duration / dt) << "\n";
+  out << "friction    "
+      << (sim.frictional() ? "on (mu = " + format("%g", config.material.friction) +
+                                 "): tangential forces and rotations integrated"
+                           : std::string("off (mu = 0): no tangential forces, no rotations"))
+      << "\n";
+  out << "walls      ";
+  for (const Wall& wall : sim.walls()) out << " " << wall.name;
+  out << "\nstages     ";
+  for (const StageSpec& stage : scene.stages) {
+    out << " " << stage.name << " (<= " << format("%g", stage.end.maxTime) << " s)";
+  }
+  out << "\noutput      " << outDir.string() << " (sample every "
+      << format("%g", scene.output.interval) << " s)\n"
+      << std::flush;
+}
+
+/// The walls whose reactions the time series carries: the box's, plus the top wall if a stage
+/// will place it. Fixed before the run because CSV columns cannot be added later.
+std::vector<std::string> reactionWallNames(const Scene& scene) {
+  std::vector<std::string> walls;
+  for (std::size_t f = 0; f < kBoxWallNames.size(); ++f) {
+    if (scene.box.walls[f]) walls.push_back(kBoxWallNames[f]);
+  }
+  for (const StageSpec& stage : scene.stages) {
+    if (stage.placeTopWallOnSurface && !scene.box.walls[5]) {
+      walls.push_back("top");
+      break;
+    }
+  }
+  return walls;
+}
+
+int withErrorMapping(const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const SceneError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const CheckpointError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const IoError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace granular::app

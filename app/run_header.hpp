@@ -1,0 +1,32 @@
+#pragma once
+/// Pieces shared by the subcommands: number formatting, the run header, the walls a time series
+/// carries, and the mapping of errors to exit codes.
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "granular/scene.hpp"
+
+namespace granular::app {
+
+/// printf-style formatting of one number.
+std::string format(const char* pattern, double value);
+
+/// Σ m [kg].
+double totalMass(const Particles& particles);
+
+/// The header printed before a run: particles, mass, integrator, contact duration, friction path,
+/// walls, stages and output folder.
+void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
+                 const std::filesystem::path& outDir);
+
+/// The walls whose reactions a time series carries: the box's, plus the top wall if a stage will
+/// place it. Fixed before the run because CSV columns cannot be added later.
+std::vector<std::string> reactionWallNames(const Scene& scene);
+
+/// Runs `body`, mapping exceptions to a message on stderr and an exit status: 2 for an invalid
+/// scene, configuration or checkpoint, 1 for I/O and anything else.
+int withErrorMapping(const std::function<int()>& body);
+
+}  // namespace granular::app

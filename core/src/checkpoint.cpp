@@ -1,0 +1,259 @@
+/// Checkpoint writing and reading (checkpoint.hpp). Sections: byte streams, the state's fields in
+/// one order for both directions, the file frame.
+#include "granular/checkpoint.hpp"
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+struct SimulationAccess {
+  static const SimulationState& state(const Simulation& sim) { return *sim.state_; }
+  static Simulation make(std::unique_ptr<SimulationState> s) { return Simulation(std::move(s)); }
+};
+
+namespace {
+
+constexpr char kMagic[8] = {'G', 'R', 'A', 'N', 'C', 'K', 'P', 'T'};
+
+std::uint64_t fnv1a(const char* data, std::size_t size) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (std::size_t i = 0; i < size; ++i) {
+    h ^= static_cast<unsigned char>(data[i]);
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+// ---- The composite fields -----------------------------------------------------------------
+
+template <class Io>
+void fields(Io& io, Wall& w) {
+  io(w.name), io(w.point), io(w.normal), io(w.velocity), io(w.reaction), io(w.impulse);
+}
+template <class Io>
+void fields(Io& io, TangentialHistory& h) {
+  io(h.stretch), io(h.stiffness);
+}
+
+// ---- Byte streams: one call operator per direction, the same field order ------------------
+
+class Writer {
+ public:
+  template <class T>
+  void operator()(T& value) {
+    if constexpr (std::is_same_v<T, Vec3>) {
+      for (int k = 0; k < 3; ++k) raw(value[k]);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      std::uint64_t n = value.size();
+      raw(n);
+      bytes_.insert(bytes_.end(), value.begin(), value.end());
+    } else if constexpr (requires { fields(*this, value); }) {
+      fields(*this, value);
+    } else if constexpr (requires { value.resize(0); }) {
+      std::uint64_t n = value.size();
+      raw(n);
+      for (auto& item : value) (*this)(item);
+    } else {
+      raw(value);
+    }
+  }
+  const std::vector<char>& bytes() const { return bytes_; }
+
+ private:
+  template <class T>
+  void raw(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const char* p = reinterpret_cast<const char*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  std::vector<char> bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const char* data, std::size_t size, const std::string& file)
+      : data_(data), size_(size), file_(file) {}
+  template <class T>
+  void operator()(T& value) {
+    if constexpr (std::is_same_v<T, Vec3>) {
+      for (int k = 0; k < 3; ++k) raw(value[k]);
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      const std::size_t n = count(1);
+      value.assign(take(n), n);
+    } else if constexpr (requires { fields(*this, value); }) {
+      fields(*this, value);
+    } else if constexpr (requires { value.resize(0); }) {
+      value.resize(count(1));
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        typename T::value_type item{};
+        (*this)(item);
+        value[i] = item;
+      }
+    } else {
+      raw(value);
+    }
+  }
+  bool atEnd() const { return pos_ == size_; }
+
+ private:
+  /// An element count, checked against what is left so a corrupted one cannot ask for terabytes.
+  std::size_t count(std::size_t minBytes) {
+    std::uint64_t n = 0;
+    raw(n);
+    if (n > (size_ - pos_) / minBytes) fail();
+    return static_cast<std::size_t>(n);
+  }
+  const char* take(std::size_t n) {
+    if (size_ - pos_ < n) fail();
+    const char* p = data_ + pos_;
+    pos_ += n;
+    return p;
+  }
+  template <class T>
+  void raw(T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::memcpy(&value, take(sizeof(T)), sizeof(T));
+  }
+  [[noreturn]] void fail() const {
+    throw CheckpointError(file_ + ": corrupted checkpoint: a field runs past the end of the data");
+  }
+  const char* data_;
+  std::size_t size_;
+  std::string file_;
+  std::size_t pos_ = 0;
+};
+
+// ---- The state, field by field, in one order for both directions --------------------------
+
+template <class Io>
+void fields(Io& io, SimulationState& s) {
+  Material& m = s.config.material;
+  io(m.youngModulus), io(m.poissonRatio), io(m.shearModulus), io(m.density), io(m.friction);
+  io(m.normalDamping), io(m.tangentialDamping), io(m.normalLaw);
+  SimulationConfig& c = s.config;
+  io(c.gravity), io(c.integrator), io(c.timeStep), io(c.skin), io(c.impactSpeed);
+  io(s.timeOrigin), io(s.stepsSinceOrigin), io(s.steps), io(s.frictional);
+  io(s.contactScale.duration), io(s.contactScale.radius), io(s.contactScale.againstWall);
+  Particles& p = s.particles;
+  io(p.position), io(p.velocity), io(p.angularVelocity), io(p.radius), io(p.mass);
+  io(s.walls);
+  io(s.invMass), io(s.invInertia), io(s.force), io(s.torque);
+  for (Derivatives* d : {&s.translation, &s.rotation}) io(d->d2), io(d->d3), io(d->d4), io(d->d5);
+  io(s.angle);
+  NeighbourList& n = s.neighbours;
+  io(n.first), io(n.second), io(n.history), io(n.wallParticles), io(n.wallHistory);
+  io(n.referencePosition), io(n.referenceWallPoint), io(n.skin), io(n.valid);
+  ContactPowers& w = s.powers;
+  io(w.elasticNormal), io(w.elasticTangential), io(w.normalDampingPower);
+  io(w.tangentialDampingPower), io(w.tangentialPower), io(w.stiffnessWork), io(w.wallPower);
+  io(w.particleContacts), io(w.wallContacts), io(w.tangentialEvaluations);
+  EnergyAccumulators& e = s.energy;
+  io(e.dissipatedNormal), io(e.dissipatedTangential), io(e.tangentialWork), io(e.stiffnessWork);
+  io(e.wallWork), io(e.initialPotential), io(e.initialTangentialElastic);
+  StepCounters& k = s.counters;
+  io(k.particleContacts), io(k.wallContacts), io(k.neighbourPairs), io(k.rebuilds);
+  io(k.tangentialEvaluations);
+}
+
+// ---- The file frame -----------------------------------------------------------------------
+
+struct Header {
+  char magic[8];
+  std::uint32_t version;
+  std::uint64_t fingerprint;
+  std::uint64_t payloadBytes;
+};
+
+std::vector<char> readAll(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw CheckpointError(file.string() + ": cannot open checkpoint");
+  return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+}
+
+template <class T>
+void put(std::vector<char>& out, const T& v) {
+  const char* p = reinterpret_cast<const char*>(&v);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+
+}  // namespace
+
+void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
+                     std::uint64_t sceneFingerprint) {
+  Writer w;
+  fields(w, const_cast<SimulationState&>(SimulationAccess::state(sim)));  // read only
+  const std::vector<char>& payload = w.bytes();
+  std::vector<char> out(kMagic, kMagic + sizeof kMagic);
+  put(out, kCheckpointVersion);
+  put(out, sceneFingerprint);
+  put(out, static_cast<std::uint64_t>(payload.size()));
+  out.insert(out.end(), payload.begin(), payload.end());
+  put(out, fnv1a(payload.data(), payload.size()));
+
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
+    o.write(out.data(), static_cast<std::streamsize>(out.size()));
+    o.flush();
+    if (!o) throw CheckpointError(tmp.string() + ": cannot write checkpoint");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec)
+    throw CheckpointError(file.string() + ": cannot rename checkpoint into place: " + ec.message());
+}
+
+Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expectedFingerprint) {
+  const std::vector<char> bytes = readAll(file);
+  const std::string name = file.string();
+  const std::size_t frame = sizeof kMagic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+  if (bytes.size() < frame + sizeof(std::uint64_t) ||
+      std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
+    throw CheckpointError(name + ": not a granular checkpoint (bad magic or too short)");
+  }
+  std::uint32_t version = 0;
+  std::uint64_t fingerprint = 0, payloadBytes = 0, checksum = 0;
+  std::size_t pos = sizeof kMagic;
+  std::memcpy(&version, bytes.data() + pos, sizeof version);
+  pos += sizeof version;
+  std::memcpy(&fingerprint, bytes.data() + pos, sizeof fingerprint);
+  pos += sizeof fingerprint;
+  std::memcpy(&payloadBytes, bytes.data() + pos, sizeof payloadBytes);
+  pos += sizeof payloadBytes;
+  if (version != kCheckpointVersion) {
+    throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
+                          ", this build reads version " + std::to_string(kCheckpointVersion));
+  }
+  if (bytes.size() != frame + payloadBytes + sizeof checksum) {
+    throw CheckpointError(
+        name + ": truncated or padded checkpoint: " + std::to_string(bytes.size()) +
+        " bytes, the header announces " + std::to_string(frame + payloadBytes + sizeof checksum));
+  }
+  std::memcpy(&checksum, bytes.data() + pos + payloadBytes, sizeof checksum);
+  if (checksum != fnv1a(bytes.data() + pos, payloadBytes)) {
+    throw CheckpointError(name + ": corrupted checkpoint: checksum mismatch");
+  }
+  if (expectedFingerprint != 0 && fingerprint != expectedFingerprint) {
+    throw CheckpointError(name + ": checkpoint belongs to another scene (fingerprint mismatch)");
+  }
+  auto state = std::make_unique<SimulationState>();
+  Reader r(bytes.data() + pos, payloadBytes, name);
+  fields(r, *state);
+  if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
+  return SimulationAccess::make(std::move(state));
+}
+
+std::uint64_t fingerprintFile(const std::filesystem::path& file) {
+  const std::vector<char> bytes = readAll(file);
+  return fnv1a(bytes.data(), bytes.size());
+}
+
+}  // namespace granular
