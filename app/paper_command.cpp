@@ -5,14 +5,15 @@
 #include <chrono>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
 
+#include "csv_input.hpp"
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/stress.hpp"
 #include "paper_report.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
@@ -74,27 +75,46 @@ void writeSettleSummary(const std::filesystem::path& path, const SettleSummary& 
 }
 
 std::optional<SettleSummary> readSettleSummary(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  std::map<std::string, std::string> kv;
-  for (std::string line; std::getline(in, line);) {
-    const auto eq = line.find(" = ");
-    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 3);
-  }
   try {
+    const auto kv = readKeyValues(path);
     SettleSummary s;
     s.endedBy = kv.at("ended_by");
-    s.duration = std::stod(kv.at("duration_s"));
-    s.steps = std::stod(kv.at("steps"));
-    s.wallSeconds = std::stod(kv.at("wall_seconds"));
-    s.finalKinetic = std::stod(kv.at("final_kinetic_J"));
-    s.threshold = std::stod(kv.at("threshold_J"));
-    s.sustain = std::stod(kv.at("sustain_s"));
-    s.cap = std::stod(kv.at("cap_s"));
+    s.duration = numberAt(kv, "duration_s", path);
+    s.steps = numberAt(kv, "steps", path);
+    s.wallSeconds = numberAt(kv, "wall_seconds", path);
+    s.finalKinetic = numberAt(kv, "final_kinetic_J", path);
+    s.threshold = numberAt(kv, "threshold_J", path);
+    s.sustain = numberAt(kv, "sustain_s", path);
+    s.cap = numberAt(kv, "cap_s", path);
     return s;
   } catch (const std::exception&) {
-    return std::nullopt;  // damaged: the report says the settle details are unknown
+    return std::nullopt;  // missing or damaged: the report says the settle details are unknown
   }
+}
+
+/// Particles for the 3-D figures: id, centre, radius and one scalar per particle (Σ|F_ij| for
+/// the settled bed, speed for the falling one).
+void writeParticleFigureData(const std::filesystem::path& path, const Simulation& sim,
+                             const std::string& scalarName, const std::vector<double>& scalar) {
+  const Particles& p = sim.particles();
+  std::ostringstream out;
+  out << "id,x_m,y_m,z_m,radius_m," << scalarName << '\n';
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out << i << ',' << csvNumber(p.position[i].x()) << ',' << csvNumber(p.position[i].y()) << ','
+        << csvNumber(p.position[i].z()) << ',' << csvNumber(p.radius[i]) << ','
+        << csvNumber(scalar[i]) << '\n';
+  }
+  writeTextFile(path, out.str());
+}
+
+/// box.txt: the box the figures draw ("key = value", metres).
+void writeBox(const std::filesystem::path& path, const Simulation& sim) {
+  auto wall = [&](const char* name) { return sim.walls()[sim.findWall(name)].point; };
+  std::ostringstream out;
+  out << "x_min = " << csvNumber(wall("x-").x()) << "\nx_max = " << csvNumber(wall("x+").x())
+      << "\ny_min = " << csvNumber(wall("y-").y()) << "\ny_max = " << csvNumber(wall("y+").y())
+      << "\nz_min = " << csvNumber(wall("bottom").z()) << '\n';
+  writeTextFile(path, out.str());
 }
 
 /// stress_t1.csv: σ_ij of Eq. (1) and the diagonal of Eq. (2) at the end of stage 2.
@@ -138,6 +158,18 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
         sim.config().integrator == Integrator::Gear5 ? "Gear 5th order" : "velocity Verlet";
     outcome.boxSide =
         sim.walls()[sim.findWall("x+")].point.x() - sim.walls()[sim.findWall("x-")].point.x();
+  };
+  // Fig. 2 shows the falling particles at t = 1 s of stage 1; Figs. 3 and 6 the settled bed.
+  run.settleSnapshots = {1.0};
+  run.onSettleSnapshot = [&](const Simulation& sim, double) {
+    std::vector<double> speed;
+    for (const Vec3& v : sim.particles().velocity) speed.push_back(v.norm());
+    writeParticleFigureData(dir / "falling_t1.csv", sim, "speed_m_per_s", speed);
+  };
+  run.onSettled = [&](const Simulation& sim) {
+    writeParticleFigureData(dir / "settled_particles.csv", sim, "force_sum_N",
+                            particleForceSums(sim));
+    writeBox(dir / "box.txt", sim);
   };
   run.onSample = [&](const Simulation& sim, const std::string& stage) {
     if (stage == settleStage.name) {

@@ -102,14 +102,18 @@ CompactionResult runCompaction(const Scene& scene, const CompactionOptions& opti
       if (options.onSample) options.onSample(s, settleStage.name);
     };
     observer.onProgress = options.onProgress;
+    observer.onSnapshot = options.onSettleSnapshot;
+    OutputSpec output = scene.output;
+    output.snapshotTimes = options.settleSnapshots;
     const auto start = std::chrono::steady_clock::now();
-    result.settle = runStage(sim, settleStage, scene.output, observer);
+    result.settle = runStage(sim, settleStage, output, observer);
     result.settleWallSeconds = seconds(start);
     if (!options.checkpoint.empty()) writeCheckpoint(sim, options.checkpoint, options.fingerprint);
   } else {
     result.settle.duration = sim.time();
     result.settle.steps = sim.stepCount();
   }
+  if (options.onSettled) options.onSettled(sim);
   result.settledHeight = surfaceHeight(sim);
   result.particles = sim.particles().size();
   for (double m : sim.particles().mass) result.totalMass += m;

@@ -44,6 +44,12 @@ std::pair<Vec3, Vec3> boxCorners(const Simulation& sim) {
 
 }  // namespace
 
+std::vector<double> particleForceSums(const Simulation& sim) {
+  std::vector<double> sums(sim.particles().size(), 0.0);
+  sim.forEachContact([&](const ContactView& c) { sums[c.particle] += c.force.norm(); });
+  return sums;
+}
+
 BoxContactSums boxContactSums(const Simulation& sim) {
   const auto [lower, upper] = boxCorners(sim);
   std::vector<bool> side(sim.walls().size(), false);

@@ -27,6 +27,11 @@ struct CompactionOptions {
   std::function<void(const Simulation&)> onStart;
   /// Called at every output interval of both stages (for time-series files), with the stage name.
   std::function<void(const Simulation&, const std::string& stage)> onSample;
+  /// Stage-1 clock times at which `onSettleSnapshot` is called (only when stage 1 runs).
+  std::vector<double> settleSnapshots;
+  std::function<void(const Simulation&, double time)> onSettleSnapshot;
+  /// Called once with the settled state (after stage 1, or when restored), before stage 2.
+  std::function<void(const Simulation&)> onSettled;
   /// Called every few hundred steps (for progress lines).
   std::function<void(const Simulation&, const StageSpec&)> onProgress;
 };

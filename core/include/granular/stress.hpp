@@ -13,6 +13,10 @@ namespace granular {
 /// l^c = C - x_i the branch vector from its centre to the contact point [Pa].
 Mat3 volumeAveragedStress(const Simulation& sim, double volume);
 
+/// Σ_j |F_ij| per particle over all its contacts, particles and walls (the paper's Figs. 3 and 6
+/// colour the particles by it) [N].
+std::vector<double> particleForceSums(const Simulation& sim);
+
 /// The contact sums a box measurement needs; linear in the contact forces, so they may be
 /// averaged over time like the reactions.
 struct BoxContactSums {

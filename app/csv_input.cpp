@@ -1,0 +1,95 @@
+/// csv_input.hpp.
+#include "csv_input.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "csv_output.hpp"
+
+namespace granular::app {
+namespace {
+
+std::vector<std::string> splitCells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+bool parseNumber(const std::string& text, double& value) {
+  if (text.empty()) {
+    value = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  }
+  const auto r = std::from_chars(text.data(), text.data() + text.size(), value);
+  return r.ec == std::errc() && r.ptr == text.data() + text.size();
+}
+
+}  // namespace
+
+const std::vector<double>& CsvTable::column(const std::string& name) const {
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (header[c] == name) return columns[c];
+  }
+  throw IoError(file.string() + ": no column '" + name + "'");
+}
+
+CsvTable readCsv(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw IoError(file.string() + ": cannot open");
+  CsvTable table;
+  table.file = file;
+  std::string line;
+  if (!std::getline(in, line)) throw IoError(file.string() + ": empty file, expected a header");
+  const std::vector<std::string> names = splitCells(line);
+  std::vector<bool> numeric(names.size(), true);
+  std::vector<std::vector<double>> all(names.size());
+  for (long lineNo = 2; std::getline(in, line); ++lineNo) {
+    if (line.empty()) continue;
+    const std::vector<std::string> cells = splitCells(line);
+    if (cells.size() != names.size()) {
+      throw IoError(file.string() + ":" + std::to_string(lineNo) + ": " +
+                    std::to_string(cells.size()) + " cells, the header has " +
+                    std::to_string(names.size()));
+    }
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      double v = 0;
+      if (!parseNumber(cells[c], v)) numeric[c] = false;
+      all[c].push_back(v);
+    }
+  }
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (!numeric[c]) continue;
+    table.header.push_back(names[c]);
+    table.columns.push_back(std::move(all[c]));
+  }
+  return table;
+}
+
+std::map<std::string, std::string> readKeyValues(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw IoError(file.string() + ": cannot open");
+  std::map<std::string, std::string> kv;
+  for (std::string line; std::getline(in, line);) {
+    const auto eq = line.find(" = ");
+    if (eq != std::string::npos) kv[line.substr(0, eq)] = line.substr(eq + 3);
+  }
+  return kv;
+}
+
+double numberAt(const std::map<std::string, std::string>& values, const std::string& key,
+                const std::filesystem::path& file) {
+  const auto it = values.find(key);
+  double v = 0;
+  if (it == values.end() || !parseNumber(it->second, v) || std::isnan(v)) {
+    throw IoError(file.string() + ": missing or non-numeric '" + key + "'");
+  }
+  return v;
+}
+
+}  // namespace granular::app

@@ -1,0 +1,33 @@
+#pragma once
+/// Reading back what the commands wrote: numeric CSV tables and "key = value" files, with errors
+/// that name the file, the line and the column.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace granular::app {
+
+/// A CSV file of numbers with a header line; empty cells read as NaN.
+class CsvTable {
+ public:
+  std::filesystem::path file;
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> columns;  ///< columns[c][row]
+
+  /// The column of that header name; IoError naming the file and the name if absent.
+  const std::vector<double>& column(const std::string& name) const;
+  std::size_t rows() const { return columns.empty() ? 0 : columns[0].size(); }
+};
+
+/// Reads a numeric CSV table; non-numeric columns (a stage name) are skipped.
+CsvTable readCsv(const std::filesystem::path& file);
+
+/// Reads "key = value" lines.
+std::map<std::string, std::string> readKeyValues(const std::filesystem::path& file);
+
+/// The number under `key`; IoError naming the file and key if absent or not a number.
+double numberAt(const std::map<std::string, std::string>& values, const std::string& key,
+                const std::filesystem::path& file);
+
+}  // namespace granular::app
