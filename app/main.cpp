@@ -1,12 +1,14 @@
 /// granular: the command line. Subcommands:
 ///   granular run SCENE.toml [--out DIR] [--quiet]
 ///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
+///   granular figures RUN_DIR
 ///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]
 /// Exit status: 0 done, 1 I/O error, 2 invalid scene or configuration (or bad arguments).
 #include <CLI/CLI.hpp>
 
 #include "calibrate_command.hpp"
 #include "paper_command.hpp"
+#include "paper_figures.hpp"
 #include "run_command.hpp"
 
 int main(int argc, char** argv) {
@@ -48,6 +50,12 @@ int main(int argc, char** argv) {
                                "Also write the table here (markdown)");
   calibrateCommand->add_flag("-q,--quiet", calibrate.quiet, "No progress lines on stderr");
 
+  std::filesystem::path figuresDir;
+  CLI::App* figuresCommand = app.add_subcommand(
+      "figures", "Re-draw every figure of a `granular paper` run from its saved results");
+  figuresCommand->add_option("run_dir", figuresDir, "The --out folder of `granular paper`")
+      ->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -57,5 +65,6 @@ int main(int argc, char** argv) {
   if (*runCommand) return granular::app::runCommand(run);
   if (*paperCommand) return granular::app::paperCommand(paper);
   if (*calibrateCommand) return granular::app::calibrateCommand(calibrate);
+  if (*figuresCommand) return granular::app::figuresCommand(figuresDir);
   return 2;
 }

@@ -14,6 +14,8 @@
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
 #include "granular/stress.hpp"
+#include "paper_fields.hpp"
+#include "paper_figures.hpp"
 #include "paper_report.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
@@ -170,6 +172,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
     writeParticleFigureData(dir / "settled_particles.csv", sim, "force_sum_N",
                             particleForceSums(sim));
     writeBox(dir / "box.txt", sim);
+    outcome.fields = writeStressFields(sim, dir);
   };
   run.onSample = [&](const Simulation& sim, const std::string& stage) {
     if (stage == settleStage.name) {
@@ -233,8 +236,15 @@ int runPaper(const PaperOptions& options) {
     std::cout << "\n== case " << ref.name << " (mu = " << ref.friction << ") ==\n";
     cases.push_back(runCase(ref, options, progress));
   }
+  std::vector<FigureFile> figures;
+  try {
+    figures = drawPaperFigures(options.outDir);
+  } catch (const std::exception& e) {
+    // The numbers stand without the pictures: say so and go on to the report.
+    std::cerr << "warning: figures not drawn: " << e.what() << "\n";
+  }
   const double total = secondsSince(start);
-  writeTextFile(options.outDir / "report.md", paperReport(cases, total));
+  writeTextFile(options.outDir / "report.md", paperReport(cases, figures, total));
   std::cout << "\nwrote " << (options.outDir / "report.md").string() << " ("
             << format("%.1f", total) << " s wall-clock)\n";
   return 0;

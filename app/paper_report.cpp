@@ -150,7 +150,8 @@ std::vector<Target> targets(const std::vector<CaseOutcome>& cases, const std::ve
 
 // 4. The report -----------------------------------------------------------------------------------
 
-std::string paperReport(const std::vector<CaseOutcome>& cases, double totalWallSeconds) {
+std::string paperReport(const std::vector<CaseOutcome>& cases,
+                        const std::vector<FigureFile>& figures, double totalWallSeconds) {
   std::vector<Derived> d;
   for (const CaseOutcome& c : cases) d.push_back(derive(c));
   std::ostringstream out;
@@ -222,7 +223,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases, double totalWallS
   for (const CaseOutcome& c : cases)
     out << "[" << c.reference->name << "/settle_kinetic.csv](" << c.reference->name
         << "/settle_kinetic.csv) ";
-  out << "(figures come with the renderer).\n";
+  out << "(plotted under Figures).\n";
 
   out << "\n## Stage 2 at t = 1 s: ours beside the paper\n\n";
   for (std::size_t k = 0; k < cases.size(); ++k) {
@@ -331,6 +332,16 @@ std::string paperReport(const std::vector<CaseOutcome>& cases, double totalWallS
     out << "- [" << (t.met ? "x" : " ") << "] " << t.text << (t.met ? "" : " — **not met**")
         << "\n";
   }
+
+  out << "\n## Figures\n\n";
+  if (figures.empty()) {
+    out << "No figures were drawn (see the warning printed by the run); `granular figures "
+           "RUN_DIR` draws them from the saved files.\n";
+  }
+  for (const FigureFile& f : figures) {
+    out << "**" << f.caption << "**\n\n![" << f.caption << "](" << f.path.string() << ")\n\n";
+  }
+  out << "Figs. 9 and 10 (σ33 on the midsection, σ1 trajectories) come with the stress fields.\n";
 
   out << "\n## Files\n\n";
   for (const CaseOutcome& c : cases) {

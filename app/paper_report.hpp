@@ -1,10 +1,12 @@
 #pragma once
 /// report.md of `granular paper`: our numbers beside the paper's, with a sentence on each
 /// difference and the targets met or not.
+#include <map>
 #include <string>
 #include <vector>
 
 #include "granular/compaction.hpp"
+#include "paper_figures.hpp"
 #include "paper_reference.hpp"
 
 namespace granular::app {
@@ -31,9 +33,12 @@ struct CaseOutcome {
   double timeStep = 0;         ///< [s]
   double contactDuration = 0;  ///< [s]
   std::string integrator;
-  double wallSeconds = 0;  ///< this invocation, both stages or stage 2 only [s]
+  double wallSeconds = 0;                ///< this invocation, both stages or stage 2 only [s]
+  std::map<std::string, double> fields;  ///< stress-field summary (paper_fields.hpp)
 };
 
-std::string paperReport(const std::vector<CaseOutcome>& cases, double totalWallSeconds);
+/// The report; `figures` are embedded in a Figures section (none: a note that they are missing).
+std::string paperReport(const std::vector<CaseOutcome>& cases,
+                        const std::vector<FigureFile>& figures, double totalWallSeconds);
 
 }  // namespace granular::app

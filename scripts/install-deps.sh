@@ -18,6 +18,8 @@ packages=(
   libgtest-dev libbenchmark-dev clang-format
   # renderer: headless GL, PNG, text
   libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core
+  # ParaView files (VTK's data model and XML writers; ~350 MB on a fresh machine)
+  libvtk9-dev
 )
 
 dry_run=0

@@ -62,8 +62,9 @@ CoarseGrainer::CoarseGrainer(const Simulation& sim, double width)
   const Particles& p = sim.particles();
   std::vector<Point> points;
   Vec3 lo = Vec3::Constant(1e300), hi = -lo;
+  const std::vector<Vec3> net = sim.netContactForces();
   for (std::size_t i = 0; i < p.size(); ++i) {
-    points.push_back({p.position[i], p.velocity[i], p.mass[i]});
+    points.push_back({p.position[i], p.velocity[i], p.mass[i], net[i]});
     lo = lo.cwiseMin(p.position[i]);
     hi = hi.cwiseMax(p.position[i]);
   }
@@ -120,15 +121,32 @@ CoarseGrainedFields CoarseGrainer::at(const Vec3& r) const {
 
 // ---- 3. The balance -----------------------------------------------------------------------
 
-Vec3 CoarseGrainer::stressDivergence(const Vec3& r, double h) const {
+Vec3 CoarseGrainer::stressDivergence(const Vec3& r, double h, bool withKinetic) const {
+  auto stress = [&](const Vec3& x) {
+    const CoarseGrainedFields f = at(x);
+    return withKinetic ? f.stress() : f.contactStress;
+  };
   Vec3 div = Vec3::Zero();
   for (int k = 0; k < 3; ++k) {
     Vec3 step = Vec3::Zero();
     step[k] = h;
-    const Mat3 plus = at(r + step).stress(), minus = at(r - step).stress();
+    const Mat3 plus = stress(r + step), minus = stress(r - step);
     div += (plus.col(k) - minus.col(k)) / (2.0 * h);
   }
   return div;
+}
+
+Vec3 CoarseGrainer::unbalancedForce(const Vec3& r) const {
+  Vec3 sum = Vec3::Zero();
+  visit(particles_, r, width(),
+        [&](const Point& q) { sum += kernel_(r - q.x) * (q.force + q.m * gravity_); });
+  return sum;
+}
+
+Vec3 CoarseGrainer::closureError(const Vec3& r, double h) const {
+  Vec3 force = Vec3::Zero();
+  visit(particles_, r, width(), [&](const Point& q) { force += kernel_(r - q.x) * q.force; });
+  return stressDivergence(r, h, false) + at(r).boundaryForce - force;
 }
 
 Vec3 CoarseGrainer::balanceResidual(const Vec3& r, double h) const {

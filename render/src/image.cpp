@@ -44,7 +44,8 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
 
 }  // namespace
 
-void writePng(const Image& image, const std::filesystem::path& file, double dpi) {
+void writePng(const Image& image, const std::filesystem::path& file, double dpi,
+              int compressionLevel) {
   if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
   std::filesystem::path tmp = file;
   tmp += ".tmp";
@@ -62,7 +63,7 @@ void writePng(const Image& image, const std::filesystem::path& file, double dpi)
       throw ImageError(file.string() + ": libpng failed while writing");
     }
     png_init_io(png, f.get());
-    png_set_compression_level(png, 1);  // fast: encoding dominates otherwise
+    png_set_compression_level(png, std::clamp(compressionLevel, 0, 9));  // 1: encoding is costly
     png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     const auto ppm = static_cast<png_uint_32>(std::lround(dpi / 0.0254));

@@ -33,10 +33,19 @@ class CoarseGrainer {
   CoarseGrainer(const Simulation& sim, double width);
 
   CoarseGrainedFields at(const Vec3& r) const;
-  /// ∂σ_ij/∂x_j by central differences of step h [Pa/m].
-  Vec3 stressDivergence(const Vec3& r, double h) const;
+  /// ∂σ_ij/∂x_j by central differences of step h [Pa/m]; the contact part only, or with the
+  /// kinetic stress.
+  Vec3 stressDivergence(const Vec3& r, double h, bool withKinetic = true) const;
   /// The static momentum balance ∇·σ + ρ g + t at r [N/m³]; zero for a bed at rest.
   Vec3 balanceResidual(const Vec3& r, double h) const;
+  /// Σ_i φ(r − x_i)(F_i + m_i g), F_i the net contact force on particle i: the density of the
+  /// particles' unbalanced force (m a), what a bed not quite at rest leaves in the balance
+  /// [N/m³].
+  Vec3 unbalancedForce(const Vec3& r) const;
+  /// ∇·σ_c + t − Σ_i φ(r − x_i) F_i: zero by the identity b·∇ψ = φ(r − a) − φ(r − b) for any
+  /// state, moving or not, so what is left is the numerical error of the fields (finite
+  /// differences of step h, quadrature of ψ) [N/m³].
+  Vec3 closureError(const Vec3& r, double h) const;
   double width() const { return kernel_.width(); }
   const Vec3& gravity() const { return gravity_; }
 
@@ -47,6 +56,7 @@ class CoarseGrainer {
   struct Point {
     Vec3 x, v;
     double m;
+    Vec3 force;  ///< net contact force [N]
   };
   template <class T>
   struct Bins {

@@ -1,0 +1,214 @@
+/// The paper's figures from saved results (paper_figures.hpp). Sections: 1. reading a case;
+/// 2. the 3-D figures; 3. the time plots; 4. all of them.
+#include "paper_figures.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "csv_input.hpp"
+#include "csv_output.hpp"
+#include "granular/render/colormap.hpp"
+#include "granular/render/particle_figure.hpp"
+#include "granular/render/plot.hpp"
+#include "run_header.hpp"
+
+namespace granular::app {
+namespace {
+
+using render::Image;
+using render::PlotSpec;
+using render::Series;
+
+constexpr double kDpi = 150.0;  // the figures' resolution: readable on screen, fine for print
+
+struct Case {
+  std::string name;   ///< folder: mu0, mu03
+  std::string label;  ///< "μ = 0"
+};
+const Case kCases[] = {{"mu0", "μ = 0"}, {"mu03", "μ = 0.3"}};
+
+// 1. Reading a case ---------------------------------------------------------------------------
+
+struct ParticleData {
+  std::vector<Vec3> centres;
+  std::vector<double> radii, values;
+};
+
+ParticleData readParticles(const std::filesystem::path& file, const std::string& valueColumn) {
+  const CsvTable t = readCsv(file);
+  ParticleData d;
+  const auto &x = t.column("x_m"), &y = t.column("y_m"), &z = t.column("z_m");
+  for (std::size_t i = 0; i < t.rows(); ++i) d.centres.emplace_back(x[i], y[i], z[i]);
+  d.radii = t.column("radius_m");
+  d.values = t.column(valueColumn);
+  return d;
+}
+
+/// The box's floor corner and its x, y extent from box.txt; the top at the highest particle.
+std::pair<Vec3, Vec3> readBox(const std::filesystem::path& file, const ParticleData& particles) {
+  const auto kv = readKeyValues(file);
+  const Vec3 lo(numberAt(kv, "x_min", file), numberAt(kv, "y_min", file),
+                numberAt(kv, "z_min", file));
+  double top = lo.z();
+  for (std::size_t i = 0; i < particles.centres.size(); ++i) {
+    top = std::max(top, particles.centres[i].z() + particles.radii[i]);
+  }
+  return {lo, Vec3(numberAt(kv, "x_max", file), numberAt(kv, "y_max", file), top)};
+}
+
+// 2. The 3-D figures --------------------------------------------------------------------------
+
+Image particleFigure(render::FigureRenderer& renderer, const std::filesystem::path& dir,
+                     const std::string& file, const std::string& column, const std::string& title,
+                     const std::string& barTitle) {
+  const ParticleData d = readParticles(dir / file, column);
+  const auto [lo, hi] = readBox(dir / "box.txt", d);
+  render::ParticleFigureSpec spec;
+  spec.centres = d.centres;
+  spec.radii = d.radii;
+  spec.values = d.values;
+  spec.boxMin = lo;
+  spec.boxMax = hi;
+  spec.title = title;
+  spec.colorBarTitle = barTitle;
+  spec.minValue = 0.0;
+  spec.style = render::FigureStyle::forDpi(kDpi);
+  spec.width = 1100;
+  spec.height = static_cast<int>(
+      std::clamp(1100 * (hi.z() - lo.z()) / (hi.x() - lo.x()) * 0.75, 900.0, 1800.0));
+  return renderer.particleFigure(spec);
+}
+
+// 3. The time plots ---------------------------------------------------------------------------
+
+Series line(const std::vector<double>& x, const std::vector<double>& y, int colour,
+            const std::string& label, double width = 1.5) {
+  Series s;
+  s.x = x;
+  s.y = y;
+  s.color = render::categorical(colour);
+  s.width = width;
+  s.label = label;
+  return s;
+}
+
+PlotSpec basePlot(const std::string& title, const std::string& yLabel) {
+  PlotSpec p;
+  p.title = title;
+  p.xLabel = "t [s]";
+  p.yLabel = yLabel;
+  p.style = render::FigureStyle::forDpi(kDpi);
+  p.width = 1200;
+  p.height = 750;
+  return p;
+}
+
+/// Figs. 4 and 7: vertical reactions of top and bottom walls, the weight, the mean side wall.
+Image forcesFigure(const CsvTable& t, const std::string& label) {
+  const auto& time = t.column("time_s");
+  PlotSpec p = basePlot("Forces vs time, stage 2 (" + label + ")", "force [N]");
+  p.series.push_back(line(time, t.column("R33_bottom_N"), 0, "R₃₃ bottom", 2.0));
+  p.series.push_back(line(time, t.column("R33_top_N"), 1, "R₃₃ top", 2.0));
+  p.series.push_back(line(time, t.column("side_mean_R_N"), 2, "¼ Σ |R| side walls", 2.0));
+  render::ReferenceLine weight;
+  weight.y = t.column("weight_N").front();
+  weight.label = "weight";
+  p.references.push_back(weight);
+  p.yRange = render::AxisRange{
+      0.0, 1.15 * std::max(weight.y, *std::max_element(t.column("R33_bottom_N").begin(),
+                                                       t.column("R33_bottom_N").end()))};
+  return render::drawPlot(p);
+}
+
+/// Figs. 5 and 8: σ11, σ22, σ33 of Eq. (1) thin and of Eq. (2) bold.
+Image stressFigure(const CsvTable& t, const std::string& label) {
+  const auto& time = t.column("time_s");
+  PlotSpec p = basePlot("Normal stresses vs time, stage 2 (" + label + ")", "σ [Pa]");
+  const char* names[] = {"σ₁₁", "σ₂₂", "σ₃₃"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string ii = std::to_string(i + 1) + std::to_string(i + 1);
+    p.series.push_back(
+        line(time, t.column("s" + ii + "_eq1_Pa"), i, std::string(names[i]) + " Eq. (1)", 1.2));
+  }
+  for (int i = 0; i < 3; ++i) {
+    const std::string ii = std::to_string(i + 1) + std::to_string(i + 1);
+    p.series.push_back(
+        line(time, t.column("s" + ii + "_eq2_Pa"), i, std::string(names[i]) + " Eq. (2)", 3.2));
+  }
+  return render::drawPlot(p);
+}
+
+/// Stage 1: the kinetic energy falling by orders of magnitude, on a log scale.
+Image settleFigure(const std::vector<std::pair<std::string, CsvTable>>& cases) {
+  PlotSpec p = basePlot("Kinetic energy while settling, stage 1", "log₁₀ (kinetic energy [J])");
+  int colour = 0;
+  for (const auto& [label, t] : cases) {
+    std::vector<double> logKe;
+    for (double e : t.column("kinetic_J")) logKe.push_back(e > 0 ? std::log10(e) : std::nan(""));
+    p.series.push_back(line(t.column("time_s"), logKe, colour++, label, 2.0));
+  }
+  return render::drawPlot(p);
+}
+
+}  // namespace
+
+// 4. All of them ------------------------------------------------------------------------------
+
+std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir) {
+  const std::filesystem::path out = runDir / "figures";
+  std::filesystem::create_directories(out);
+  std::vector<FigureFile> written;
+  auto save = [&](const Image& image, const std::string& name, const std::string& caption) {
+    render::writePng(image, out / name, kDpi);
+    written.push_back({caption, std::filesystem::path("figures") / name});
+  };
+  render::FigureRenderer renderer;
+  const std::filesystem::path mu0 = runDir / "mu0";
+  if (std::filesystem::exists(mu0 / "falling_t1.csv")) {
+    save(particleFigure(renderer, mu0, "falling_t1.csv", "speed_m_per_s",
+                        "Particles falling, t = 1 s of stage 1 (μ = 0)", "speed [m/s]"),
+         "fig02_falling_mu0.png",
+         "Fig. 2: particles falling at t = 1 s of stage 1, μ = 0, coloured by speed");
+  }
+  std::vector<std::pair<std::string, CsvTable>> settle;
+  int figure = 3;
+  for (const Case& c : kCases) {
+    const std::filesystem::path dir = runDir / c.name;
+    if (!std::filesystem::exists(dir / "settled_particles.csv")) continue;
+    const std::string n = std::to_string(figure);
+    save(particleFigure(renderer, dir, "settled_particles.csv", "force_sum_N",
+                        "Settled assembly, end of stage 1 (" + c.label + ")", "Σ|F_ij| [N]"),
+         "fig0" + n + "_settled_" + c.name + ".png",
+         "Fig. " + n + ": the settled assembly, " + c.label + ", coloured by Σ|F_ij| [N]");
+    const CsvTable stress = readCsv(dir / "compaction_stress.csv");
+    const std::string n4 = std::to_string(figure + 1), n5 = std::to_string(figure + 2);
+    save(forcesFigure(stress, c.label), "fig0" + n4 + "_forces_" + c.name + ".png",
+         "Fig. " + n4 + ": wall reactions and weight vs time, stage 2, " + c.label);
+    save(stressFigure(stress, c.label), "fig0" + n5 + "_stresses_" + c.name + ".png",
+         "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + c.label);
+    if (std::filesystem::exists(dir / "settle_kinetic.csv")) {
+      settle.emplace_back(c.label, readCsv(dir / "settle_kinetic.csv"));
+    }
+    figure += 3;
+  }
+  if (!settle.empty()) {
+    save(settleFigure(settle), "settle_kinetic_energy.png",
+         "Kinetic energy during stage 1 (log scale), both cases");
+  }
+  return written;
+}
+
+int figuresCommand(const std::filesystem::path& runDir) {
+  return withErrorMapping([&] {
+    if (!std::filesystem::is_directory(runDir)) {
+      throw IoError(runDir.string() + ": not a folder (give the --out folder of `granular paper`)");
+    }
+    for (const FigureFile& f : drawPaperFigures(runDir)) {
+      std::cout << "wrote " << (runDir / f.path).string() << "\n";
+    }
+    return 0;
+  });
+}
+
+}  // namespace granular::app
