@@ -42,6 +42,7 @@ Box settledBox(const Simulation& sim) {
 /// diameters, enough particles per sphere (~20) for a stress, fine enough to see the profile.
 constexpr double kSphereSpacing = 0.1;  // [m]
 constexpr double kWidth = 0.1;          // Lucy kernel support radius c [m]
+constexpr double kRadiusFactor = 2.0;
 constexpr double kWidths[] = {0.05, 0.1, 0.15};
 
 // ---- 4. Wall stresses (used by the Janssen fit) -------------------------------------------
@@ -96,8 +97,9 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
                                     std::max(1, static_cast<int>(std::lround(H / kSphereSpacing)))};
   const Vec3 size = box.hi - box.lo;
   const double spacing = std::max({size.x() / cells[0], size.y() / cells[1], size.z() / cells[2]});
-  // The smallest radius whose spheres cover the whole box (half the cell diagonal).
-  const double radius = 0.5 * std::sqrt(3.0) * spacing;
+  // Twice the smallest radius whose spheres cover the whole box (half the cell diagonal): with
+  // ~13 particles a sphere the field is noise; ~100 (this) resolve the trend of Figs. 9 and 10.
+  const double radius = kRadiusFactor * 0.5 * std::sqrt(3.0) * spacing;
   const RepresentativeStress rep = representativeSphereStress(sim, box.lo, box.hi, cells, radius);
   summary["spheres"] = double(rep.stress.size());
   summary["sphere_radius_m"] = radius;
@@ -110,12 +112,15 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
       interpolateOnPlane(rep, yMid, box.lo.x(), box.hi.x(), box.lo.z(), box.hi.z(), nx, nz);
   auto planeAt = [&](int i, int k) -> const Mat3& { return plane.stress[std::size_t(k) * nx + i]; };
 
-  // σ1 trajectories, started across the bed at mid-depth and traced both ways.
+  // σ1 trajectories, started across the bed just below its surface and traced downwards, as the
+  // weight travels; they stop at the floor or at a nearly isotropic point (direction undefined).
   std::vector<Vec3> starts;
-  for (int s = 1; s <= 9; ++s) {
-    starts.emplace_back(box.lo.x() + s * L / 10.0, yMid, box.lo.z() + 0.5 * H);
+  for (double depth : {0.05, 0.5}) {  // a second row from mid-depth fills the lower half
+    for (int s = 1; s <= 11; ++s) {
+      starts.emplace_back(box.lo.x() + s * L / 12.0, yMid, box.hi.z() - depth * H);
+    }
   }
-  const auto lines = principalTrajectories(plane, starts, L / 200.0);
+  const auto lines = principalTrajectories(plane, starts, L / 200.0, -Vec3::UnitZ(), 0.05);
 
   // Convexity at mid-depth (the paper: peak at the centre, lower at the walls) and the tilt of
   // σ1 from the vertical at the centre and near the walls.
@@ -125,8 +130,8 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
   summary["sigma33_mid_centre_Pa"] = centre;
   summary["sigma33_mid_walls_Pa"] = walls;
   auto tiltDegrees = [&](int i) {
-    Vec3 d = principalStresses(planeAt(i, kMid)).vectors.col(0);
-    return std::atan2(std::abs(d.x()), std::abs(d.z())) * 180.0 / std::numbers::pi;
+    const auto d = inPlaneSigma1(planeAt(i, kMid), 0.0);
+    return d ? std::atan2(std::abs(d->x()), std::abs(d->z())) * 180.0 / std::numbers::pi : 0.0;
   };
   summary["sigma1_tilt_centre_deg"] = tiltDegrees(nx / 2);
   summary["sigma1_tilt_walls_deg"] = 0.5 * (tiltDegrees(2) + tiltDegrees(nx - 3));

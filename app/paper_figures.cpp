@@ -9,6 +9,7 @@
 #include "csv_input.hpp"
 #include "csv_output.hpp"
 #include "granular/render/colormap.hpp"
+#include "granular/render/contour.hpp"
 #include "granular/render/particle_figure.hpp"
 #include "granular/render/plot.hpp"
 #include "run_header.hpp"
@@ -151,6 +152,80 @@ Image settleFigure(const std::vector<std::pair<std::string, CsvTable>>& cases) {
   return render::drawPlot(p);
 }
 
+// 3b. The stress fields (Figs. 9 and 10 and beyond) -------------------------------------------
+
+/// One column of fields/midsection.csv as the grid a contour map takes (row 0 at the floor).
+render::ContourSpec midsectionMap(const CsvTable& t, const std::string& column) {
+  const auto &i = t.column("i"), &k = t.column("k"), &x = t.column("x_m"), &z = t.column("z_m");
+  const auto& v = t.column(column);
+  const int nx = static_cast<int>(*std::max_element(i.begin(), i.end())) + 1;
+  const int nz = static_cast<int>(*std::max_element(k.begin(), k.end())) + 1;
+  render::ContourSpec spec;
+  spec.values.assign(nz, std::vector<double>(nx, std::nan("")));
+  for (std::size_t r = 0; r < t.rows(); ++r) spec.values[int(k[r])][int(i[r])] = v[r];
+  spec.xMin = *std::min_element(x.begin(), x.end());
+  spec.xMax = *std::max_element(x.begin(), x.end());
+  spec.yMin = *std::min_element(z.begin(), z.end());
+  spec.yMax = *std::max_element(z.begin(), z.end());
+  spec.xLabel = "x [m]";
+  spec.yLabel = "z [m]";
+  spec.style = render::FigureStyle::forDpi(kDpi);
+  spec.width = 1000;
+  spec.height = static_cast<int>(
+      1000 * std::clamp((spec.yMax - spec.yMin) / (spec.xMax - spec.xMin), 1.0, 2.2));
+  return spec;
+}
+
+/// Fig. 9: σ33 on the midsection y = L/2, filled bands with labelled isolines.
+Image sigma33Figure(const CsvTable& t, const std::string& column, const std::string& title) {
+  render::ContourSpec spec = midsectionMap(t, column);
+  spec.title = title;
+  spec.colorBarTitle = "σ₃₃ [Pa]";
+  spec.levelCount = 9;
+  return render::drawContour(spec);
+}
+
+/// Fig. 10: σ1 trajectories over the midsection, the walls as the frame.
+Image trajectoryFigure(const CsvTable& field, const CsvTable& lines, const std::string& title) {
+  render::ContourSpec spec = midsectionMap(field, "s33_rep_Pa");
+  spec.values.clear();  // axes and overlays only: the walls are the frame
+  spec.colorBar = false;
+  spec.title = title;
+  const auto &id = lines.column("line"), &x = lines.column("x_m"), &z = lines.column("z_m");
+  for (std::size_t r = 0; r < lines.rows(); ++r) {
+    if (r == 0 || id[r] != id[r - 1]) {
+      spec.polylines.emplace_back();
+      spec.polylines.back().color = render::categorical(0);
+      spec.polylines.back().width = 2.0;
+    }
+    spec.polylines.back().points.push_back({x[r], z[r]});
+  }
+  return render::drawContour(spec);
+}
+
+/// σ33 against height: the centre line (representative spheres; coarse-grained at three widths),
+/// the cross-section mean, and Janssen's law or the hydrostatic load.
+Image profileFigure(const CsvTable& t, const std::string& label, bool frictional) {
+  PlotSpec p = basePlot("σ₃₃ against height, end of stage 1 (" + label + ")", "σ₃₃ [Pa]");
+  p.xLabel = "z [m]";
+  const auto& z = t.column("z_m");
+  p.series.push_back(
+      line(z, t.column("s33_rep_centre_Pa"), 0, "centre line, spheres (Eq. 1)", 1.5));
+  int colour = 1;
+  for (const std::string w : {"0.05", "0.1", "0.15"}) {
+    p.series.push_back(line(z, t.column("s33_cg_centre_c" + w + "_Pa"), colour++,
+                            "centre line, coarse-grained c = " + w + " m", 1.2));
+  }
+  p.series.push_back(
+      line(z, t.column("s33_cg_section_mean_Pa"), 4, "cross-section mean (c = 0.1 m)", 3.0));
+  Series reference = line(z, t.column(frictional ? "janssen_Pa" : "hydrostatic_Pa"), 7,
+                          frictional ? "Janssen, fitted μ_w K" : "hydrostatic (weight above)", 2.0);
+  reference.dash = Series::Dashed;
+  p.series.push_back(reference);
+  p.legend = render::LegendPosition::LowerRight;
+  return render::drawPlot(p);
+}
+
 }  // namespace
 
 // 4. All of them ------------------------------------------------------------------------------
@@ -195,6 +270,36 @@ std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir) {
   if (!settle.empty()) {
     save(settleFigure(settle), "settle_kinetic_energy.png",
          "Kinetic energy during stage 1 (log scale), both cases");
+  }
+  // The stress fields of the settled beds: the paper shows μ = 0.3; μ = 0 for comparison.
+  for (const Case& c : {kCases[1], kCases[0]}) {
+    const std::filesystem::path fields = runDir / c.name / "fields";
+    if (!std::filesystem::exists(fields / "midsection.csv")) continue;
+    const bool frictional = c.name == "mu03";
+    const std::string suffix = frictional ? "" : "_mu0";
+    const CsvTable mid = readCsv(fields / "midsection.csv");
+    save(
+        sigma33Figure(mid, "s33_rep_Pa", "σ₃₃ on the midsection, end of stage 1 (" + c.label + ")"),
+        "fig09_sigma33" + suffix + ".png",
+        "Fig. 9" + std::string(frictional ? "" : " (μ = 0 for comparison)") +
+            ": σ33 on the midsection y = L/2 from representative spheres (Eq. 1), tricubic "
+            "spline, " +
+            c.label);
+    save(trajectoryFigure(mid, readCsv(fields / "trajectories.csv"),
+                          "Trajectories of σ₁, end of stage 1 (" + c.label + ")"),
+         "fig10_trajectories" + suffix + ".png",
+         "Fig. 10" + std::string(frictional ? "" : " (μ = 0 for comparison)") +
+             ": trajectories of the most compressive principal stress σ1 on the midsection, " +
+             c.label);
+    save(sigma33Figure(mid, "s33_cg_Pa",
+                       "σ₃₃ coarse-grained (c = 0.1 m), end of stage 1 (" + c.label + ")"),
+         "fig09_sigma33_coarse_grained" + suffix + ".png",
+         "Beyond the paper: σ33 on the midsection, coarse-grained (Lucy kernel, c = 0.1 m), " +
+             c.label);
+    save(profileFigure(readCsv(fields / "profiles.csv"), c.label, frictional),
+         "profile_sigma33" + suffix + ".png",
+         "Beyond the paper: σ33 against height, centre line and cross-section mean, against " +
+             std::string(frictional ? "Janssen's law" : "the hydrostatic load") + ", " + c.label);
   }
   return written;
 }

@@ -8,6 +8,7 @@
 #include "golden.hpp"
 #include "granular/packings.hpp"
 #include "granular/render/canvas.hpp"
+#include "granular/render/contour.hpp"
 #include "granular/render/figure_checks.hpp"
 #include "granular/render/particle_figure.hpp"
 #include "granular/render/plot.hpp"
@@ -71,6 +72,54 @@ Image miniatureTimePlot() {
   return drawPlot(p);
 }
 
+/// A miniature Fig. 9: a convex σ33 field on a midsection, growing with depth.
+Image miniatureContour() {
+  ContourSpec spec;
+  const int nx = 25, nz = 41;
+  spec.values.assign(nz, std::vector<double>(nx));
+  for (int k = 0; k < nz; ++k) {
+    for (int i = 0; i < nx; ++i) {
+      const double x = i / double(nx - 1), depth = 1.0 - k / double(nz - 1);
+      spec.values[k][i] = -3000.0 * depth * (1.0 - 0.3 * (2 * x - 1) * (2 * x - 1));
+    }
+  }
+  spec.xMax = 0.6;
+  spec.yMax = 1.0;
+  spec.title = "σ₃₃ midsection";
+  spec.xLabel = "x [m]";
+  spec.yLabel = "z [m]";
+  spec.colorBarTitle = "σ₃₃ [Pa]";
+  spec.width = 260;
+  spec.height = 340;
+  spec.style = FigureStyle::forDpi(70);
+  return drawContour(spec);
+}
+
+/// A miniature Fig. 10: trajectories bending towards the walls, the walls as the frame.
+Image miniatureTrajectories() {
+  ContourSpec spec;
+  spec.xMax = 0.6;
+  spec.yMax = 1.0;
+  spec.colorBar = false;
+  spec.title = "σ₁ trajectories";
+  spec.xLabel = "x [m]";
+  spec.yLabel = "z [m]";
+  for (int l = 1; l <= 7; ++l) {
+    PolylineOverlay line;
+    const double x0 = 0.6 * l / 8.0;
+    for (int k = 0; k <= 20; ++k) {
+      const double z = k / 20.0;
+      line.points.push_back({x0 + 0.08 * (x0 - 0.3) * z * z, z});
+    }
+    line.width = 1.5;
+    spec.polylines.push_back(line);
+  }
+  spec.width = 220;
+  spec.height = 340;
+  spec.style = FigureStyle::forDpi(70);
+  return drawContour(spec);
+}
+
 FigureExpectations particleExpectations() {
   FigureExpectations e;
   e.colorBarMap = viridis;
@@ -89,6 +138,22 @@ TEST(Figures, ParticleFigureMatchesGolden) {
 TEST(Figures, TimePlotMatchesGolden) {
   const Image image = miniatureTimePlot();
   EXPECT_TRUE(matchesGolden(image, "time_plot"));
+  EXPECT_TRUE(figureProblems(image, FigureExpectations{}).empty());
+}
+
+TEST(Figures, ContourMatchesGolden) {
+  const Image image = miniatureContour();
+  EXPECT_TRUE(matchesGolden(image, "contour"));
+  FigureExpectations expect;
+  expect.colorBarMap = viridis;
+  expect.colorBarFromX = 0.7;
+  expect.titleBand = 0.2;  // equal aspect centres the map vertically
+  EXPECT_TRUE(figureProblems(image, expect).empty());
+}
+
+TEST(Figures, TrajectoriesMatchGolden) {
+  const Image image = miniatureTrajectories();
+  EXPECT_TRUE(matchesGolden(image, "trajectories"));
   EXPECT_TRUE(figureProblems(image, FigureExpectations{}).empty());
 }
 

@@ -135,32 +135,32 @@ std::optional<Mat3> sample(const PlaneField& plane, double x, double z) {
 
 }  // namespace
 
+std::optional<Vec3> inPlaneSigma1(const Mat3& s, double minAnisotropy) {
+  // The symmetric 2×2 in-plane tensor [[a, c], [c, b]] with a = σ11, b = σ33, c = (σ13+σ31)/2.
+  const double a = s(0, 0), b = s(2, 2), c = 0.5 * (s(0, 2) + s(2, 0));
+  const double mean = 0.5 * (a + b), radius = std::hypot(0.5 * (a - b), c);
+  if (!(2.0 * radius >= minAnisotropy * std::abs(mean)) || radius == 0.0) return std::nullopt;
+  // σ1 = mean − radius (the most compressive); its direction at angle θ from x with
+  // tan 2θ = 2c/(a − b), shifted by a right angle to the smaller eigenvalue.
+  const double theta = 0.5 * std::atan2(2.0 * c, a - b) + 0.5 * std::numbers::pi;
+  return Vec3(std::cos(theta), 0.0, std::sin(theta));
+}
+
 std::vector<std::vector<Vec3>> principalTrajectories(const PlaneField& plane,
-                                                     const std::vector<Vec3>& starts, double step) {
-  // The in-plane direction of σ1: its eigenvector projected on the x-z plane, normalised.
+                                                     const std::vector<Vec3>& starts, double step,
+                                                     const Vec3& heading, double minAnisotropy) {
   auto direction = [&](const Vec3& r) -> std::optional<Vec3> {
     const auto s = sample(plane, r.x(), r.z());
     if (!s) return std::nullopt;
-    const PrincipalStresses ps = principalStresses(*s);
-    Vec3 d = ps.vectors.col(0);
-    d.y() = 0.0;
-    const double norm = d.norm();
-    if (norm < 1e-9) return std::nullopt;  // σ1 normal to the plane: no in-plane direction
-    return Vec3(d / norm);
+    return inPlaneSigma1(*s, minAnisotropy);
   };
-  const Vec3 lo(plane.xMin, plane.y - 1.0, plane.zMin), hi(plane.xMax, plane.y + 1.0, plane.zMax);
+  const Vec3 lo(plane.xMin, plane.y, plane.zMin), hi(plane.xMax, plane.y, plane.zMax);
   const int maxSteps =
       static_cast<int>(4.0 * ((plane.xMax - plane.xMin) + (plane.zMax - plane.zMin)) / step);
   std::vector<std::vector<Vec3>> lines;
   for (const Vec3& start : starts) {
-    // Both ways from the start point, joined into one line.
-    std::vector<Vec3> up = traceTrajectory(direction, start, step, maxSteps, lo, hi, Vec3::UnitZ());
-    std::vector<Vec3> down =
-        traceTrajectory(direction, start, step, maxSteps, lo, hi, -Vec3::UnitZ());
-    std::reverse(down.begin(), down.end());
-    if (!down.empty()) down.pop_back();  // the start point is in both
-    down.insert(down.end(), up.begin(), up.end());
-    if (down.size() >= 2) lines.push_back(std::move(down));
+    std::vector<Vec3> line = traceTrajectory(direction, start, step, maxSteps, lo, hi, heading);
+    if (line.size() >= 2) lines.push_back(std::move(line));
   }
   return lines;
 }

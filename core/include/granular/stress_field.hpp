@@ -3,6 +3,7 @@
 /// Eq. (1) over representative spheres on a grid, interpolated by a tricubic spline onto a fine
 /// midsection grid, with principal stresses and σ1 trajectories. Compression is negative.
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "granular/simulation.hpp"
@@ -61,10 +62,18 @@ struct PlaneField {
 PlaneField interpolateOnPlane(const RepresentativeStress& field, double y, double xMin, double xMax,
                               double zMin, double zMax, int nx, int nz);
 
-/// Trajectories of the most compressive principal stress σ1 in the plane: lines everywhere
-/// tangent to the in-plane part of σ1's direction, started at `starts`, integrated with step
-/// `step` [m] until they leave the plane's rectangle.
+/// Trajectories of the most compressive principal stress σ1 of the plane's in-plane stress
+/// (σ11, σ13, σ33): lines everywhere tangent to its direction, started at `starts` and traced
+/// in the direction `heading` (e.g. −z, downwards) with step `step` [m] until they leave the
+/// plane's rectangle or reach a nearly isotropic point, where the direction is undefined
+/// (|σ1 − σ3| below `minAnisotropy` times their mean magnitude).
 std::vector<std::vector<Vec3>> principalTrajectories(const PlaneField& plane,
-                                                     const std::vector<Vec3>& starts, double step);
+                                                     const std::vector<Vec3>& starts, double step,
+                                                     const Vec3& heading,
+                                                     double minAnisotropy = 0.05);
+
+/// The in-plane (x-z) principal direction of σ1 at a tensor, or nullopt where it is nearly
+/// isotropic in the plane.
+std::optional<Vec3> inPlaneSigma1(const Mat3& stress, double minAnisotropy);
 
 }  // namespace granular
