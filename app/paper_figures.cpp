@@ -141,8 +141,14 @@ Image stressFigure(const CsvTable& t, const std::string& label) {
 }
 
 /// Stage 1: the kinetic energy falling by orders of magnitude, on a log scale.
-Image settleFigure(const std::vector<std::pair<std::string, CsvTable>>& cases) {
+Image settleFigure(const std::vector<std::pair<std::string, CsvTable>>& cases, double threshold) {
   PlotSpec p = basePlot("Kinetic energy while settling, stage 1", "log₁₀ (kinetic energy [J])");
+  if (threshold > 0) {
+    render::ReferenceLine end;
+    end.y = std::log10(threshold);
+    end.label = "end of stage 1: below " + format("%g", threshold) + " J, sustained";
+    p.references.push_back(end);
+  }
   int colour = 0;
   for (const auto& [label, t] : cases) {
     std::vector<double> logKe;
@@ -247,6 +253,7 @@ std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir) {
          "Fig. 2: particles falling at t = 1 s of stage 1, μ = 0, coloured by speed");
   }
   std::vector<std::pair<std::string, CsvTable>> settle;
+  double threshold = 0;
   int figure = 3;
   for (const Case& c : kCases) {
     const std::filesystem::path dir = runDir / c.name;
@@ -264,11 +271,15 @@ std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir) {
          "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + c.label);
     if (std::filesystem::exists(dir / "settle_kinetic.csv")) {
       settle.emplace_back(c.label, readCsv(dir / "settle_kinetic.csv"));
+      if (std::filesystem::exists(dir / "settle_summary.txt")) {
+        const auto kv = readKeyValues(dir / "settle_summary.txt");
+        threshold = numberAt(kv, "threshold_J", dir / "settle_summary.txt");
+      }
     }
     figure += 3;
   }
   if (!settle.empty()) {
-    save(settleFigure(settle), "settle_kinetic_energy.png",
+    save(settleFigure(settle, threshold), "settle_kinetic_energy.png",
          "Kinetic energy during stage 1 (log scale), both cases");
   }
   // The stress fields of the settled beds: the paper shows μ = 0.3; μ = 0 for comparison.
