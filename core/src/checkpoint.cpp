@@ -248,6 +248,7 @@ Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expec
   Reader r(bytes.data() + pos, payloadBytes, name);
   fields(r, *state);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
+  buildContactIndex(state->neighbours, state->particles.size());
   return SimulationAccess::make(std::move(state));
 }
 

@@ -1,9 +1,20 @@
 #include "integrators.hpp"
 
-namespace granular {
+#include <omp.h>
 
-void Gear5::predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt) {
+namespace granular {
+namespace {
+
+int threadCount(int threads) {
+  return threads > 0 ? threads : omp_get_max_threads();
+}
+
+}  // namespace
+
+void Gear5::predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt,
+                    int threads) {
   const std::size_t n = x.size();
+#pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 a = d.d2[i], b = d.d3[i], c = d.d4[i], e = d.d5[i];
     // Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!.
@@ -16,11 +27,12 @@ void Gear5::predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, 
 }
 
 void Gear5::correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
-                    const std::vector<Vec3>& accel, double dt) {
+                    const std::vector<Vec3>& accel, double dt, int threads) {
   const std::size_t n = x.size();
   // r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ k!/Δt^k.
   const double sx = kC0 * dt * dt / 2.0, sv = kC1 * dt / 2.0, s3 = kC3 * 3.0 / dt,
                s4 = kC4 * 12.0 / (dt * dt), s5 = kC5 * 60.0 / (dt * dt * dt);
+#pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 delta = accel[i] - d.d2[i];
     x[i] += sx * delta;
@@ -33,7 +45,8 @@ void Gear5::correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
 }
 
 void VelocityVerlet::drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d,
-                           double dt) {
+                           double dt, int threads) {
+#pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < x.size(); ++i) {
     v[i] += 0.5 * dt * d.d2[i];
     x[i] += dt * v[i];
@@ -42,7 +55,8 @@ void VelocityVerlet::drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Der
 }
 
 void VelocityVerlet::kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel,
-                          double dt) {
+                          double dt, int threads) {
+#pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < v.size(); ++i) {
     v[i] += 0.5 * dt * (accel[i] - d.d2[i]);
     d.d2[i] = accel[i];

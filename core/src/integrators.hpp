@@ -19,10 +19,13 @@ namespace granular {
 struct Gear5 {
   static constexpr double kC0 = 3.0 / 20.0, kC1 = 251.0 / 360.0, kC2 = 1.0, kC3 = 11.0 / 18.0,
                           kC4 = 1.0 / 6.0, kC5 = 1.0 / 60.0;
-  static void predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt);
+  /// Element-wise loops, run on `threads` threads (0: OpenMP's default); the result does not
+  /// depend on the count.
+  static void predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt,
+                      int threads = 1);
   /// `accel` is the acceleration evaluated at the predicted state.
   static void correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
-                      const std::vector<Vec3>& accel, double dt);
+                      const std::vector<Vec3>& accel, double dt, int threads = 1);
 };
 
 /// Velocity Verlet. The dashpots need the velocity at the new time, which Verlet only knows
@@ -31,9 +34,11 @@ struct Gear5 {
 /// velocity instead would make the scheme first order for velocity-dependent forces.
 struct VelocityVerlet {
   /// x += v Δt + a Δt²/2; v += a Δt (the predicted velocity).
-  static void drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d, double dt);
+  static void drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d, double dt,
+                    int threads = 1);
   /// v += (accel - a) Δt/2; a = accel.
-  static void kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt);
+  static void kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt,
+                   int threads = 1);
 };
 
 }  // namespace granular

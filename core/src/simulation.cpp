@@ -1,6 +1,8 @@
 /// Simulation: set-up and validation, the step (its passes in order), measurements.
 #include "granular/simulation.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -151,14 +153,15 @@ void Simulation::step() {
   const double dt = s.config.timeStep;
   const bool gear = s.config.integrator == Integrator::Gear5;
   const std::size_t n = p.size();
+  const int threads = s.config.threads;
 
   // 1. Predict.
   if (gear) {
-    Gear5::predict(p.position, p.velocity, s.translation, dt);
-    if (s.frictional) Gear5::predict(s.angle, p.angularVelocity, s.rotation, dt);
+    Gear5::predict(p.position, p.velocity, s.translation, dt, threads);
+    if (s.frictional) Gear5::predict(s.angle, p.angularVelocity, s.rotation, dt, threads);
   } else {
-    VelocityVerlet::drift(p.position, p.velocity, s.translation, dt);
-    if (s.frictional) VelocityVerlet::drift(s.angle, p.angularVelocity, s.rotation, dt);
+    VelocityVerlet::drift(p.position, p.velocity, s.translation, dt, threads);
+    if (s.frictional) VelocityVerlet::drift(s.angle, p.angularVelocity, s.rotation, dt, threads);
   }
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
@@ -173,17 +176,20 @@ void Simulation::step() {
   const ContactPowers before = s.powers;
   computeContactForces(s, dt);
   // 5. Accelerations (reusing the force arrays: they are not needed after this pass).
-  for (std::size_t i = 0; i < n; ++i) s.force[i] = s.force[i] * s.invMass[i] + s.config.gravity;
-  if (s.frictional) {
-    for (std::size_t i = 0; i < n; ++i) s.torque[i] *= s.invInertia[i];
+  const Vec3 g = s.config.gravity;
+  const bool rotating = s.frictional;
+#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
+  for (std::size_t i = 0; i < n; ++i) {
+    s.force[i] = s.force[i] * s.invMass[i] + g;
+    if (rotating) s.torque[i] *= s.invInertia[i];
   }
   // 6. Correct.
   if (gear) {
-    Gear5::correct(p.position, p.velocity, s.translation, s.force, dt);
-    if (s.frictional) Gear5::correct(s.angle, p.angularVelocity, s.rotation, s.torque, dt);
+    Gear5::correct(p.position, p.velocity, s.translation, s.force, dt, threads);
+    if (s.frictional) Gear5::correct(s.angle, p.angularVelocity, s.rotation, s.torque, dt, threads);
   } else {
-    VelocityVerlet::kick(p.velocity, s.translation, s.force, dt);
-    if (s.frictional) VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt);
+    VelocityVerlet::kick(p.velocity, s.translation, s.force, dt, threads);
+    if (s.frictional) VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt, threads);
   }
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;

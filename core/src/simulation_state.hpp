@@ -19,6 +19,16 @@ struct TangentialHistory {
   double stiffness = 0.0;       ///< k_t at the previous step, for the stiffness-work term [N/m]
 };
 
+/// For each particle, where its contacts' results lie (built with the neighbour list), so the
+/// force pass can gather them per particle in a fixed order: pairs [firstStart[i],
+/// firstStart[i+1]) have i first (the list is sorted by first); secondPairs[secondStart[i] ..
+/// secondStart[i+1]) are the pairs with i second, ascending; wallContacts[wallStart[i] ..] are
+/// its (wall, candidate) slots.
+struct ContactIndex {
+  std::vector<std::uint32_t> firstStart, secondStart, secondPairs, wallStart;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> wallContacts;
+};
+
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
 /// than the skin allows. Pairs are sorted by (first, second) so that the history of a pair can be
 /// carried to the rebuilt list by a merge, without hashing.
@@ -33,7 +43,11 @@ struct NeighbourList {
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
   double skin = 0.0;                     ///< [m]
   bool valid = false;
+  ContactIndex index;  ///< derived from the lists (not checkpointed: rebuilt on load)
 };
+
+/// Rebuilds list.index from the pair and wall lists for n particles.
+void buildContactIndex(NeighbourList& list, std::size_t n);
 
 /// Builds the list for the current positions, carrying tangential history of surviving pairs.
 void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
@@ -66,6 +80,13 @@ struct ContactPowers {
   std::uint64_t tangentialEvaluations = 0;
 };
 
+/// Per-contact results of the hot force pass, gathered per particle afterwards.
+struct ContactScratch {
+  std::vector<Vec3> pairForce, pairTorqueI, pairTorqueJ;
+  std::vector<std::vector<Vec3>> wallForce, wallTorque;
+  std::vector<ContactPowers> blockPowers;
+};
+
 struct EnergyAccumulators {
   double dissipatedNormal = 0, dissipatedTangential = 0, tangentialWork = 0;
   double stiffnessWork = 0, wallWork = 0;
@@ -96,6 +117,7 @@ struct SimulationState {
   std::vector<Vec3> angle;  ///< ∫ω dt, Gear's rotational "position" [rad]; frictional only
 
   NeighbourList neighbours;
+  ContactScratch contactScratch;
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
