@@ -1,5 +1,7 @@
 /// Neighbour (Verlet) lists on a uniform cell grid, with the contact history carried across
 /// rebuilds. Sections: cell grid, particle pairs, wall candidates, history merge, staleness.
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -104,40 +106,57 @@ void carryWallHistory(const std::vector<std::uint32_t>& oldList,
 // ---- Rebuild ------------------------------------------------------------------------------
 
 void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::vector<Wall>& walls,
-                          bool keepHistory) {
+                          bool keepHistory, int threads) {
   const std::size_t n = p.size();
   const double rMax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
   const double skin = list.skin;
 
   std::vector<std::uint32_t> first, second;
-  first.reserve(list.first.size() + n);
-  second.reserve(list.second.size() + n);
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
-    std::vector<std::uint32_t> found;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec3& xi = p.position[i];
-      const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
-                 cz = grid.cellCoord(xi[2], 2);
-      found.clear();
-      for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
-        for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
-          for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
-            const long c = grid.cellIndex(x, y, z);
-            for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
-              const std::uint32_t j = grid.items[k];
-              if (j <= i) continue;
-              const double reach = p.radius[i] + p.radius[j] + skin;
-              if ((p.position[j] - xi).squaredNorm() < reach * reach) found.push_back(j);
+    // Each thread searches a contiguous range of i and keeps its pairs sorted by (i, j); the
+    // ranges concatenated in order give the same sorted list for any thread count.
+    const int teams = threads > 0 ? threads : omp_get_max_threads();
+    std::vector<std::vector<std::uint32_t>> firstParts(teams), secondParts(teams);
+#pragma omp parallel num_threads(teams)
+    {
+      const int t = omp_get_thread_num(), count = omp_get_num_threads();
+      const std::size_t lo = n * t / count, hi = n * (t + 1) / count;
+      std::vector<std::uint32_t>& myFirst = firstParts[t];
+      std::vector<std::uint32_t>& mySecond = secondParts[t];
+      std::vector<std::uint32_t> found;
+      for (std::size_t i = lo; i < hi; ++i) {
+        const Vec3& xi = p.position[i];
+        const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
+                   cz = grid.cellCoord(xi[2], 2);
+        found.clear();
+        for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
+          for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
+            for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
+              const long c = grid.cellIndex(x, y, z);
+              for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
+                const std::uint32_t j = grid.items[k];
+                if (j <= i) continue;
+                const double reach = p.radius[i] + p.radius[j] + skin;
+                if ((p.position[j] - xi).squaredNorm() < reach * reach) found.push_back(j);
+              }
             }
           }
         }
+        std::sort(found.begin(), found.end());
+        for (std::uint32_t j : found) {
+          myFirst.push_back(static_cast<std::uint32_t>(i));
+          mySecond.push_back(j);
+        }
       }
-      std::sort(found.begin(), found.end());
-      for (std::uint32_t j : found) {
-        first.push_back(static_cast<std::uint32_t>(i));
-        second.push_back(j);
-      }
+    }
+    std::size_t total = 0;
+    for (const auto& part : firstParts) total += part.size();
+    first.reserve(total);
+    second.reserve(total);
+    for (int t = 0; t < teams; ++t) {
+      first.insert(first.end(), firstParts[t].begin(), firstParts[t].end());
+      second.insert(second.end(), secondParts[t].begin(), secondParts[t].end());
     }
   }
 
@@ -212,15 +231,19 @@ void buildContactIndex(NeighbourList& list, std::size_t n) {
 // ---- Staleness ----------------------------------------------------------------------------
 
 bool neighbourListStale(const NeighbourList& list, const Particles& p,
-                        const std::vector<Wall>& walls) {
+                        const std::vector<Wall>& walls, int threads) {
   if (!list.valid || list.referencePosition.size() != p.size() ||
       list.referenceWallPoint.size() != walls.size()) {
     return true;
   }
   // Two particles approach by at most twice the largest displacement; a particle and a wall by
   // the particle's displacement plus the wall's.
-  double maxMove2 = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  double maxMove2 = 0.0;  // a maximum is exact in any order: the reduction is deterministic
+  const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) reduction(max         \
+                                                    : maxMove2) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads())
+  for (std::size_t i = 0; i < n; ++i) {
     maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
   }
   const double maxMove = std::sqrt(maxMove2);

@@ -119,7 +119,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
     s.particles.angularVelocity.assign(n, Vec3::Zero());
   }
 
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional);
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
   ++s.counters.rebuilds;
   computeContactForces(s, 0.0);  // initial forces; dt = 0 leaves the springs as they are
   for (std::size_t i = 0; i < n; ++i) {
@@ -168,8 +168,8 @@ void Simulation::step() {
   ++s.stepsSinceOrigin;
   ++s.steps;
   // 3. Neighbours.
-  if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls)) {
-    rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional);
+  if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls, threads)) {
+    rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional, threads);
     ++s.counters.rebuilds;
   }
   // 4. Forces.
@@ -255,7 +255,7 @@ std::size_t Simulation::addWall(const Wall& wall) {
   SimulationState& s = *state_;
   s.walls.push_back(wall);
   s.neighbours.valid = false;  // the new wall needs its candidate list
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional);
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
   ++s.counters.rebuilds;
   return s.walls.size() - 1;
 }

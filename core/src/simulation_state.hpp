@@ -50,11 +50,13 @@ struct NeighbourList {
 void buildContactIndex(NeighbourList& list, std::size_t n);
 
 /// Builds the list for the current positions, carrying tangential history of surviving pairs.
+/// The candidate search runs on `threads` threads (0: OpenMP's default); the list is the same
+/// for any count.
 void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
-                          const std::vector<Wall>& walls, bool keepHistory);
+                          const std::vector<Wall>& walls, bool keepHistory, int threads = 1);
 /// True when some pair within the list's reach may have come into contact unseen.
 bool neighbourListStale(const NeighbourList& list, const Particles& particles,
-                        const std::vector<Wall>& walls);
+                        const std::vector<Wall>& walls, int threads = 1);
 
 // ---- 2. Integrator derivatives ------------------------------------------------------------
 
