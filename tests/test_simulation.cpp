@@ -122,3 +122,19 @@ TEST(Simulation, ContactViewsSeeEachPairFromBothSides) {
   EXPECT_EQ(wallViews, sim.counters().wallContacts);
   EXPECT_LT(sum.norm(), 1e-9);
 }
+
+// Changing the step keeps the clock continuous and refuses an unstable step.
+TEST(Simulation, SetTimeStepKeepsTheClockAndRefusesUnstableSteps) {
+  granular::Particles p;
+  p.add(granular::Vec3(0, 0, 1), 0.03, 500.0);
+  granular::SimulationConfig config;
+  config.timeStep = 1e-4;
+  granular::Simulation sim(std::move(p), {}, config);
+  sim.run(10);
+  sim.setTimeStep(5e-5);
+  sim.run(4);
+  EXPECT_NEAR(sim.time(), 10 * 1e-4 + 4 * 5e-5, 1e-15);
+  EXPECT_THROW(sim.setTimeStep(1.0), granular::ConfigError);
+  EXPECT_THROW(sim.setTimeStep(-1e-4), granular::ConfigError);
+  EXPECT_DOUBLE_EQ(sim.config().timeStep, 5e-5);
+}

@@ -27,6 +27,19 @@ std::string str(double x) {
   return o.str();
 }
 
+/// Refuses a time step above kMaxStepFraction of the stiffest contact's duration.
+void requireStableStep(double dt, const ContactScale& scale, double rMin) {
+  const double limit = kMaxStepFraction * scale.duration;
+  if (dt > limit) {
+    std::ostringstream msg;
+    msg << "time step " << dt << " s is above the limit " << limit << " s = " << kMaxStepFraction
+        << " x the contact duration " << scale.duration << " s of the stiffest contact (radius "
+        << rMin << " m " << (scale.againstWall ? "against a wall" : "against an equal particle")
+        << "); use at most " << limit << " s (1/50 to 1/20 of the duration is usual)";
+    throw ConfigError(msg.str());
+  }
+}
+
 void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
   const Material& m = cfg.material;
   require(std::isfinite(m.youngModulus) && m.youngModulus > 0,
@@ -83,16 +96,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
 
   // Refuse a step the contacts cannot resolve (design §2: report the contact duration).
   s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
-  const double limit = kMaxStepFraction * s.contactScale.duration;
-  if (config.timeStep > limit) {
-    std::ostringstream msg;
-    msg << "time step " << config.timeStep << " s is above the limit " << limit
-        << " s = " << kMaxStepFraction << " x the contact duration " << s.contactScale.duration
-        << " s of the stiffest contact (radius " << rMin << " m "
-        << (s.contactScale.againstWall ? "against a wall" : "against an equal particle")
-        << "); use at most " << limit << " s (1/50 to 1/20 of the duration is usual)";
-    throw ConfigError(msg.str());
-  }
+  requireStableStep(config.timeStep, s.contactScale, rMin);
   s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
 
   s.invMass.resize(n);
@@ -258,6 +262,21 @@ std::size_t Simulation::addWall(const Wall& wall) {
   rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
   ++s.counters.rebuilds;
   return s.walls.size() - 1;
+}
+
+void Simulation::setTimeStep(double dt) {
+  require(std::isfinite(dt) && dt > 0, "time step = " + str(dt) + " s: must be > 0");
+  const std::vector<double>& r = state_->particles.radius;
+  requireStableStep(dt, state_->contactScale, *std::min_element(r.begin(), r.end()));
+  // The clock counts steps from its origin: move the origin here so the time runs on unbroken.
+  state_->timeOrigin = time();
+  state_->stepsSinceOrigin = 0;
+  state_->config.timeStep = dt;
+}
+
+void Simulation::setThreads(int threads) {
+  require(threads >= 0, "threads = " + std::to_string(threads) + ": must be >= 0");
+  state_->config.threads = threads;
 }
 
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {

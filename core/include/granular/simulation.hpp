@@ -102,6 +102,12 @@ class Simulation {
   const std::vector<Wall>& walls() const;
   /// Adds a wall (e.g. the top wall of stage 2); returns its index.
   std::size_t addWall(const Wall& wall);
+  /// Changes the time step Δt [s] from the next step on (e.g. to rerun a restored state at
+  /// another step); refused like the constructor refuses it (ConfigError). Gear's derivatives
+  /// are stored unscaled, so the change needs no rescaling.
+  void setTimeStep(double dt);
+  /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
+  void setThreads(int threads);
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.
