@@ -31,11 +31,11 @@ double oscillatorError(Integrator scheme, double dt, double beta) {
   const long steps = std::lround(kEnd / dt);
   for (long k = 0; k < steps; ++k) {
     if (scheme == Integrator::Gear5) {
-      Gear5::predict(x, v, d, dt);
+      Gear5::predict(&x, v, d, dt);
       a[0] = accel(x[0], v[0]);
-      Gear5::correct(x, v, d, a, dt);
+      Gear5::correct(&x, v, d, a, dt);
     } else {
-      VelocityVerlet::drift(x, v, d, dt);
+      VelocityVerlet::drift(&x, v, d, dt);
       a[0] = accel(x[0], v[0]);
       VelocityVerlet::kick(v, d, a, dt);
     }

@@ -144,9 +144,8 @@ void fields(Io& io, SimulationState& s) {
   Particles& p = s.particles;
   io(p.position), io(p.velocity), io(p.angularVelocity), io(p.radius), io(p.mass);
   io(s.walls);
-  io(s.invMass), io(s.invInertia), io(s.force), io(s.torque);
+  io(s.force), io(s.torque);
   for (Derivatives* d : {&s.translation, &s.rotation}) io(d->d2), io(d->d3), io(d->d4), io(d->d5);
-  io(s.angle);
   NeighbourList& n = s.neighbours;
   io(n.first), io(n.second), io(n.history), io(n.wallParticles), io(n.wallHistory);
   io(n.referencePosition), io(n.referenceWallPoint), io(n.skin), io(n.valid);

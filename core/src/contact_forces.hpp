@@ -38,9 +38,11 @@ inline double normalElasticForce(const ContactConstants& c, double radius, doubl
 /// the spring alone equals the limit. `advance` adds v_t Δt to ξ (the time step); without it the
 /// force is evaluated for the stored ξ (measurements between steps).
 template <bool kAdvance>
-inline Vec3 tangentialForce(const ContactConstants& c, TangentialHistory& history, const Vec3& n,
-                            const Vec3& contactVelocity, double radius, double overlap, double mass,
-                            double normalForce, ContactPowers& powers) {
+[[gnu::always_inline]] inline Vec3 tangentialForce(const ContactConstants& c,
+                                                   TangentialHistory& history, const Vec3& n,
+                                                   const Vec3& contactVelocity, double radius,
+                                                   double overlap, double mass, double normalForce,
+                                                   ContactPowers& powers) {
   const Vec3 vt = contactVelocity - contactVelocity.dot(n) * n;
   // Rotate the spring into the current tangent plane, keeping its length: the contact frame
   // turns with the particles, the stretch does not grow or shrink by it.

@@ -63,7 +63,8 @@ inline Vec3 contactForce(const ContactConstants& c, TangentialHistory* history, 
 struct ContactResult {
   Vec3 force = Vec3::Zero();    ///< on particle i (−force on j) [N]
   Vec3 torqueI = Vec3::Zero();  ///< d_ci × F on i [N m]
-  Vec3 torqueJ = Vec3::Zero();  ///< d_cj × F_ji on j [N m] (pairs only)
+  Vec3 moment = Vec3::Zero();   ///< n × F, the torques' common factor (pairs only) [N]
+  double overlap = 0.0;         ///< h [m]
   Vec3 point = Vec3::Zero();    ///< contact point [m]
   bool touching = false;
 };
@@ -85,7 +86,7 @@ inline ContactResult evaluatePair(const ContactConstants& c, const Particles& p,
   const double distance = std::sqrt(distance2);
   const Vec3 n = unitNormal(d, distance);
   const double h = reach - distance;
-  const double armI = p.radius[i] - 0.5 * h, armJ = p.radius[j] - 0.5 * h;
+  const double armI = p.radius[i] - 0.5 * h, armJ = p.radius[j] - 0.5 * h;  // lever arms
   const double radius = p.radius[i] * p.radius[j] / reach;
   const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
   const Vec3 vrel = p.velocity[i] - p.velocity[j];
@@ -105,9 +106,10 @@ inline ContactResult evaluatePair(const ContactConstants& c, const Particles& p,
   r.force = contactForce<kFriction, kLaw, kAdvance>(c, history, n, h, radius, mass, vrel,
                                                     angularTerm, powers);
   if constexpr (kFriction) {
-    const Vec3 t = n.cross(r.force);  // d_ci × F with d_ci = a_i n; for j: (-a_j n) × (-F)
-    r.torqueI = armI * t;
-    r.torqueJ = armJ * t;
+    // d_ci × F with d_ci = a_i n; for j: (-a_j n) × (-F) = a_j n × F. The gather rebuilds both
+    // torques from n × F and h with the same arithmetic as here.
+    r.moment = n.cross(r.force);
+    r.overlap = h;
   }
   r.point = p.position[i] + armI * n;
   r.touching = true;
@@ -185,23 +187,26 @@ void parallelPass(SimulationState& s, double dt) {
   // (a) Pair forces into their slots.
   out.pairForce.resize(pairs);
   if constexpr (kFriction) {
-    out.pairTorqueI.resize(pairs);
-    out.pairTorqueJ.resize(pairs);
+    out.pairMoment.resize(pairs);
+    out.pairOverlap.resize(pairs);
   }
   const std::size_t pairBlocks = (pairs + kBlock - 1) / kBlock;
   out.blockPowers.assign(pairBlocks, ContactPowers{});
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t b = 0; b < pairBlocks; ++b) {
-    ContactPowers& powers = out.blockPowers[b];
+    // A local sum: the compiler keeps it in registers (the output arrays are doubles too, so a
+    // sum in memory would be reloaded after every store for fear of aliasing).
+    ContactPowers powers;
     const std::size_t end = std::min(pairs, (b + 1) * kBlock);
     for (std::size_t k = b * kBlock; k < end; ++k) {
       const ContactResult r = evaluatePair<kFriction, kLaw, true>(c, p, list, k, powers);
       out.pairForce[k] = r.force;
       if constexpr (kFriction) {
-        out.pairTorqueI[k] = r.torqueI;
-        out.pairTorqueJ[k] = r.torqueJ;
+        out.pairMoment[k] = r.moment;
+        out.pairOverlap[k] = r.overlap;
       }
     }
+    out.blockPowers[b] = powers;
   }
   // Wall contacts (few: one block per wall), in their own slots.
   ContactPowers powers;
@@ -231,14 +236,15 @@ void parallelPass(SimulationState& s, double dt) {
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+    const double radius = p.radius[i];
     for (std::uint32_t k = index.firstStart[i]; k < index.firstStart[i + 1]; ++k) {
       f += out.pairForce[k];
-      if constexpr (kFriction) t += out.pairTorqueI[k];
+      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
     }
     for (std::uint32_t e = index.secondStart[i]; e < index.secondStart[i + 1]; ++e) {
       const std::uint32_t k = index.secondPairs[e];
       f -= out.pairForce[k];
-      if constexpr (kFriction) t += out.pairTorqueJ[k];
+      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
     }
     for (std::uint32_t e = index.wallStart[i]; e < index.wallStart[i + 1]; ++e) {
       const auto [w, k] = index.wallContacts[e];

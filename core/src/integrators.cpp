@@ -11,14 +11,15 @@ int threadCount(int threads) {
 
 }  // namespace
 
-void Gear5::predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt,
+void Gear5::predict(std::vector<Vec3>* positions, std::vector<Vec3>& v, Derivatives& d, double dt,
                     int threads) {
-  const std::size_t n = x.size();
+  const std::size_t n = v.size();
+  Vec3* x = positions ? positions->data() : nullptr;
 #pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 a = d.d2[i], b = d.d3[i], c = d.d4[i], e = d.d5[i];
     // Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!.
-    x[i] += dt * (v[i] + dt / 2.0 * (a + dt / 3.0 * (b + dt / 4.0 * (c + dt / 5.0 * e))));
+    if (x) x[i] += dt * (v[i] + dt / 2.0 * (a + dt / 3.0 * (b + dt / 4.0 * (c + dt / 5.0 * e))));
     v[i] += dt * (a + dt / 2.0 * (b + dt / 3.0 * (c + dt / 4.0 * e)));
     d.d2[i] = a + dt * (b + dt / 2.0 * (c + dt / 3.0 * e));
     d.d3[i] = b + dt * (c + dt / 2.0 * e);
@@ -26,16 +27,17 @@ void Gear5::predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, 
   }
 }
 
-void Gear5::correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
+void Gear5::correct(std::vector<Vec3>* positions, std::vector<Vec3>& v, Derivatives& d,
                     const std::vector<Vec3>& accel, double dt, int threads) {
-  const std::size_t n = x.size();
+  const std::size_t n = v.size();
+  Vec3* x = positions ? positions->data() : nullptr;
   // r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ k!/Δt^k.
   const double sx = kC0 * dt * dt / 2.0, sv = kC1 * dt / 2.0, s3 = kC3 * 3.0 / dt,
                s4 = kC4 * 12.0 / (dt * dt), s5 = kC5 * 60.0 / (dt * dt * dt);
 #pragma omp parallel for schedule(static) num_threads(threadCount(threads))
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 delta = accel[i] - d.d2[i];
-    x[i] += sx * delta;
+    if (x) x[i] += sx * delta;
     v[i] += sv * delta;
     d.d2[i] += kC2 * delta;
     d.d3[i] += s3 * delta;
@@ -44,12 +46,13 @@ void Gear5::correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
   }
 }
 
-void VelocityVerlet::drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d,
+void VelocityVerlet::drift(std::vector<Vec3>* positions, std::vector<Vec3>& v, const Derivatives& d,
                            double dt, int threads) {
+  Vec3* x = positions ? positions->data() : nullptr;
 #pragma omp parallel for schedule(static) num_threads(threadCount(threads))
-  for (std::size_t i = 0; i < x.size(); ++i) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
     v[i] += 0.5 * dt * d.d2[i];
-    x[i] += dt * v[i];
+    if (x) x[i] += dt * v[i];
     v[i] += 0.5 * dt * d.d2[i];
   }
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// Time integrators acting on (position, velocity, Derivatives) triples; they know nothing of
-/// contacts. Used for translation (x, v) and rotation (θ, ω) alike.
+/// contacts. Used for translation (x, v) and rotation (ω only: a null `x` skips the positions,
+/// since a sphere's orientation feeds back into nothing).
 #include <vector>
 
 #include "simulation_state.hpp"
@@ -21,10 +22,10 @@ struct Gear5 {
                           kC4 = 1.0 / 6.0, kC5 = 1.0 / 60.0;
   /// Element-wise loops, run on `threads` threads (0: OpenMP's default); the result does not
   /// depend on the count.
-  static void predict(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d, double dt,
+  static void predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,
                       int threads = 1);
   /// `accel` is the acceleration evaluated at the predicted state.
-  static void correct(std::vector<Vec3>& x, std::vector<Vec3>& v, Derivatives& d,
+  static void correct(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d,
                       const std::vector<Vec3>& accel, double dt, int threads = 1);
 };
 
@@ -34,7 +35,7 @@ struct Gear5 {
 /// velocity instead would make the scheme first order for velocity-dependent forces.
 struct VelocityVerlet {
   /// x += v Δt + a Δt²/2; v += a Δt (the predicted velocity).
-  static void drift(std::vector<Vec3>& x, std::vector<Vec3>& v, const Derivatives& d, double dt,
+  static void drift(std::vector<Vec3>* x, std::vector<Vec3>& v, const Derivatives& d, double dt,
                     int threads = 1);
   /// v += (accel - a) Δt/2; a = accel.
   static void kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt,

@@ -99,12 +99,6 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   requireStableStep(config.timeStep, s.contactScale, rMin);
   s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
 
-  s.invMass.resize(n);
-  s.invInertia.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    s.invMass[i] = 1.0 / p.mass[i];
-    s.invInertia[i] = 1.0 / p.inertia(i);
-  }
   const bool gear = config.integrator == Integrator::Gear5;
   auto allocate = [&](Derivatives& d) {
     d.d2.assign(n, Vec3::Zero());
@@ -117,7 +111,6 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   allocate(s.translation);
   if (s.frictional) {
     allocate(s.rotation);
-    s.angle.assign(n, Vec3::Zero());
   } else {
     // The frictionless path never touches rotations: they stay exactly as given.
     s.particles.angularVelocity.assign(n, Vec3::Zero());
@@ -127,8 +120,8 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   ++s.counters.rebuilds;
   computeContactForces(s, 0.0);  // initial forces; dt = 0 leaves the springs as they are
   for (std::size_t i = 0; i < n; ++i) {
-    s.translation.d2[i] = s.force[i] * s.invMass[i] + config.gravity;
-    if (s.frictional) s.rotation.d2[i] = s.torque[i] * s.invInertia[i];
+    s.translation.d2[i] = s.force[i] * (1.0 / p.mass[i]) + config.gravity;
+    if (s.frictional) s.rotation.d2[i] = s.torque[i] * (1.0 / p.inertia(i));
   }
   double potential = 0;
   for (std::size_t i = 0; i < n; ++i) potential += p.mass[i] * config.gravity.dot(p.position[i]);
@@ -161,11 +154,11 @@ void Simulation::step() {
 
   // 1. Predict.
   if (gear) {
-    Gear5::predict(p.position, p.velocity, s.translation, dt, threads);
-    if (s.frictional) Gear5::predict(s.angle, p.angularVelocity, s.rotation, dt, threads);
+    Gear5::predict(&p.position, p.velocity, s.translation, dt, threads);
+    if (s.frictional) Gear5::predict(nullptr, p.angularVelocity, s.rotation, dt, threads);
   } else {
-    VelocityVerlet::drift(p.position, p.velocity, s.translation, dt, threads);
-    if (s.frictional) VelocityVerlet::drift(s.angle, p.angularVelocity, s.rotation, dt, threads);
+    VelocityVerlet::drift(&p.position, p.velocity, s.translation, dt, threads);
+    if (s.frictional) VelocityVerlet::drift(nullptr, p.angularVelocity, s.rotation, dt, threads);
   }
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
@@ -184,13 +177,13 @@ void Simulation::step() {
   const bool rotating = s.frictional;
 #pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (std::size_t i = 0; i < n; ++i) {
-    s.force[i] = s.force[i] * s.invMass[i] + g;
-    if (rotating) s.torque[i] *= s.invInertia[i];
+    s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
+    if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
   }
   // 6. Correct.
   if (gear) {
-    Gear5::correct(p.position, p.velocity, s.translation, s.force, dt, threads);
-    if (s.frictional) Gear5::correct(s.angle, p.angularVelocity, s.rotation, s.torque, dt, threads);
+    Gear5::correct(&p.position, p.velocity, s.translation, s.force, dt, threads);
+    if (s.frictional) Gear5::correct(nullptr, p.angularVelocity, s.rotation, s.torque, dt, threads);
   } else {
     VelocityVerlet::kick(p.velocity, s.translation, s.force, dt, threads);
     if (s.frictional) VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt, threads);

@@ -84,7 +84,12 @@ struct ContactPowers {
 
 /// Per-contact results of the hot force pass, gathered per particle afterwards.
 struct ContactScratch {
-  std::vector<Vec3> pairForce, pairTorqueI, pairTorqueJ;
+  std::vector<Vec3> pairForce;  ///< F_ij on the first particle [N]
+  /// n × F_ij [N] and the overlap h [m] of each pair (friction only): the torques on i and j are
+  /// (R_i − h/2)·n×F and (R_j − h/2)·n×F, rebuilt in the gather from each particle's own radius,
+  /// which stores 32 bytes a pair instead of two torques' 48.
+  std::vector<Vec3> pairMoment;
+  std::vector<double> pairOverlap;
   std::vector<std::vector<Vec3>> wallForce, wallTorque;
   std::vector<ContactPowers> blockPowers;
 };
@@ -111,12 +116,13 @@ struct SimulationState {
   bool rebuildEveryStep = false;
   ContactScale contactScale;
 
-  // Per-particle derived constants and per-step accumulators.
-  std::vector<double> invMass, invInertia;
+  // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle
+  // and step costs less than 16 bytes per particle of memory traffic.)
   std::vector<Vec3> force, torque;  ///< contact forces [N] and torques [N m] of the last pass
   Derivatives translation;          ///< d2 = acceleration [m/s²]
-  Derivatives rotation;             ///< d2 = angular acceleration [rad/s²]; frictional only
-  std::vector<Vec3> angle;  ///< ∫ω dt, Gear's rotational "position" [rad]; frictional only
+  /// d2 = angular acceleration [rad/s²]; frictional only. Gear's rotational "position" ∫ω dt
+  /// is not kept: nothing depends on it (spheres have no orientation that matters).
+  Derivatives rotation;
 
   NeighbourList neighbours;
   ContactScratch contactScratch;

@@ -23,7 +23,8 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kCheckpointVersion = 1;
+/// 2: no inverse masses or Gear rotational positions (not needed to continue bit for bit).
+inline constexpr std::uint32_t kCheckpointVersion = 2;
 
 /// Writes `sim` atomically. `sceneFingerprint` identifies what the state belongs to (for
 /// instance fingerprintFile() of the scene file); readCheckpoint can insist on it.
