@@ -111,52 +111,50 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   const double rMax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
   const double skin = list.skin;
 
+  // Two passes over the same search, count then fill, so the list is allocated once at its
+  // exact size (no per-thread buffers growing by doubling: at 10⁶ particles those transients
+  // were the peak of the run's memory). Each particle's partners land in a range fixed by the
+  // prefix sums, sorted by j, so the list is the same for any thread count.
   std::vector<std::uint32_t> first, second;
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
-    // Each thread searches a contiguous range of i and keeps its pairs sorted by (i, j); the
-    // ranges concatenated in order give the same sorted list for any thread count.
-    const int teams = threads > 0 ? threads : omp_get_max_threads();
-    std::vector<std::vector<std::uint32_t>> firstParts(teams), secondParts(teams);
-#pragma omp parallel num_threads(teams)
-    {
-      const int t = omp_get_thread_num(), count = omp_get_num_threads();
-      const std::size_t lo = n * t / count, hi = n * (t + 1) / count;
-      std::vector<std::uint32_t>& myFirst = firstParts[t];
-      std::vector<std::uint32_t>& mySecond = secondParts[t];
-      std::vector<std::uint32_t> found;
-      for (std::size_t i = lo; i < hi; ++i) {
-        const Vec3& xi = p.position[i];
-        const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
-                   cz = grid.cellCoord(xi[2], 2);
-        found.clear();
-        for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
-          for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
-            for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
-              const long c = grid.cellIndex(x, y, z);
-              for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
-                const std::uint32_t j = grid.items[k];
-                if (j <= i) continue;
-                const double reach = p.radius[i] + p.radius[j] + skin;
-                if ((p.position[j] - xi).squaredNorm() < reach * reach) found.push_back(j);
-              }
+    // Calls found(j) for every j > i within R_i + R_j + skin of i.
+    auto search = [&](std::size_t i, auto&& found) {
+      const Vec3& xi = p.position[i];
+      const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
+                 cz = grid.cellCoord(xi[2], 2);
+      for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
+        for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
+          for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
+            const long c = grid.cellIndex(x, y, z);
+            for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
+              const std::uint32_t j = grid.items[k];
+              if (j <= i) continue;
+              const double reach = p.radius[i] + p.radius[j] + skin;
+              if ((p.position[j] - xi).squaredNorm() < reach * reach) found(j);
             }
           }
         }
-        std::sort(found.begin(), found.end());
-        for (std::uint32_t j : found) {
-          myFirst.push_back(static_cast<std::uint32_t>(i));
-          mySecond.push_back(j);
-        }
       }
+    };
+    const int teams = threads > 0 ? threads : omp_get_max_threads();
+    std::vector<std::uint32_t> start(n + 1, 0);
+#pragma omp parallel for schedule(static) num_threads(teams)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t count = 0;
+      search(i, [&count](std::uint32_t) { ++count; });
+      start[i + 1] = count;
     }
-    std::size_t total = 0;
-    for (const auto& part : firstParts) total += part.size();
-    first.reserve(total);
-    second.reserve(total);
-    for (int t = 0; t < teams; ++t) {
-      first.insert(first.end(), firstParts[t].begin(), firstParts[t].end());
-      second.insert(second.end(), secondParts[t].begin(), secondParts[t].end());
+    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    first.resize(start[n]);
+    second.resize(start[n]);
+#pragma omp parallel for schedule(static) num_threads(teams)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t* out = second.data() + start[i];
+      search(i, [&out](std::uint32_t j) { *out++ = j; });
+      std::sort(second.begin() + start[i], second.begin() + start[i + 1]);
+      std::fill(first.begin() + start[i], first.begin() + start[i + 1],
+                static_cast<std::uint32_t>(i));
     }
   }
 
