@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "granular/error.hpp"
+#include "granular/packings.hpp"
 #include "physics_fixtures.hpp"
 
 using namespace granular;
@@ -137,4 +138,30 @@ TEST(Simulation, SetTimeStepKeepsTheClockAndRefusesUnstableSteps) {
   EXPECT_THROW(sim.setTimeStep(1.0), granular::ConfigError);
   EXPECT_THROW(sim.setTimeStep(-1e-4), granular::ConfigError);
   EXPECT_DOUBLE_EQ(sim.config().timeStep, 5e-5);
+}
+
+// The memory account sees what the model needs: a frictionless scene holds no tangential
+// history and no torques, a frictional one does; every part grows with the particle count.
+TEST(Simulation, MemoryUseFollowsTheModel) {
+  auto build = [](double friction) {
+    granular::BoxSpec box;
+    granular::Particles p =
+        granular::denseRandomPacking(500, 0.030, 0.035, 500.0, 7, &box, granular::PackingLayout{});
+    granular::SimulationConfig config;
+    config.material.friction = friction;
+    config.timeStep = 1e-4;
+    granular::Simulation sim(std::move(p), granular::buildWalls(box), config);
+    sim.run(5);
+    return sim.memoryUse();
+  };
+  const granular::MemoryUse frictionless = build(0.0), frictional = build(0.3);
+  EXPECT_EQ(frictionless.history, 0u);
+  EXPECT_GT(frictional.history, 0u);
+  EXPECT_GT(frictional.integrator, frictionless.integrator);  // torques, rotational derivatives
+  EXPECT_GT(frictional.scratch, frictionless.scratch);        // n × F and h per pair
+  // Positions, velocities, ω (3 × 24 B) and radius, mass (2 × 8 B) per particle at least.
+  EXPECT_GE(frictionless.particles, 500u * 88u);
+  EXPECT_EQ(frictionless.total(), frictionless.particles + frictionless.integrator +
+                                      frictionless.neighbours + frictionless.history +
+                                      frictionless.contactIndex + frictionless.scratch);
 }

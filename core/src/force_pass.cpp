@@ -185,10 +185,10 @@ void parallelPass(SimulationState& s, double dt) {
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
 
   // (a) Pair forces into their slots.
-  out.pairForce.resize(pairs);
+  resizeScratch(out.pairForce, pairs);
   if constexpr (kFriction) {
-    out.pairMoment.resize(pairs);
-    out.pairOverlap.resize(pairs);
+    resizeScratch(out.pairMoment, pairs);
+    resizeScratch(out.pairOverlap, pairs);
   }
   const std::size_t pairBlocks = (pairs + kBlock - 1) / kBlock;
   out.blockPowers.assign(pairBlocks, ContactPowers{});

@@ -211,7 +211,7 @@ void buildContactIndex(NeighbourList& list, std::size_t n) {
     x.wallStart[i + 1] += x.wallStart[i];
   }
   // Filled in ascending k (and wall, candidate) order: each particle's slots stay ordered.
-  x.secondPairs.resize(list.first.size());
+  resizeScratch(x.secondPairs, list.first.size());
   std::vector<std::uint32_t> fill(x.secondStart.begin(), x.secondStart.end() - 1);
   for (std::size_t k = 0; k < list.second.size(); ++k) {
     x.secondPairs[fill[list.second[k]]++] = static_cast<std::uint32_t>(k);

@@ -332,6 +332,44 @@ std::vector<Vec3> Simulation::netContactForces() const {
   return net;
 }
 
+namespace {
+
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+template <class T>
+std::size_t bytes(const std::vector<std::vector<T>>& v) {
+  std::size_t total = v.capacity() * sizeof(std::vector<T>);
+  for (const auto& inner : v) total += bytes(inner);
+  return total;
+}
+
+}  // namespace
+
+MemoryUse Simulation::memoryUse() const {
+  const SimulationState& s = *state_;
+  const Particles& p = s.particles;
+  MemoryUse m;
+  m.particles = bytes(p.position) + bytes(p.velocity) + bytes(p.angularVelocity) + bytes(p.radius) +
+                bytes(p.mass);
+  m.integrator = bytes(s.force) + bytes(s.torque);
+  for (const Derivatives* d : {&s.translation, &s.rotation}) {
+    m.integrator += bytes(d->d2) + bytes(d->d3) + bytes(d->d4) + bytes(d->d5);
+  }
+  const NeighbourList& l = s.neighbours;
+  m.neighbours = bytes(l.first) + bytes(l.second) + bytes(l.wallParticles) +
+                 bytes(l.referencePosition) + bytes(l.referenceWallPoint);
+  m.history = bytes(l.history) + bytes(l.wallHistory);
+  const ContactIndex& x = l.index;
+  m.contactIndex = bytes(x.firstStart) + bytes(x.secondStart) + bytes(x.secondPairs) +
+                   bytes(x.wallStart) + bytes(x.wallContacts);
+  const ContactScratch& c = s.contactScratch;
+  m.scratch = bytes(c.pairForce) + bytes(c.pairMoment) + bytes(c.pairOverlap) + bytes(c.wallForce) +
+              bytes(c.wallTorque) + bytes(c.blockPowers);
+  return m;
+}
+
 std::uint64_t Simulation::stateHash() const {
   const Particles& p = state_->particles;
   std::uint64_t h = 1469598103934665603ULL;

@@ -61,6 +61,20 @@ struct EnergyBalance {
   double kinetic() const { return kineticTranslational + kineticRotational; }
 };
 
+/// Bytes held by a Simulation's arrays (their capacity), by what they are for. Transient
+/// buffers of a neighbour-list rebuild are not included: they live only during the rebuild.
+struct MemoryUse {
+  std::size_t particles = 0;     ///< positions, velocities, ω, radii, masses [B]
+  std::size_t integrator = 0;    ///< forces, torques and the integrator's derivatives [B]
+  std::size_t neighbours = 0;    ///< candidate pairs, wall candidates, reference positions [B]
+  std::size_t history = 0;       ///< tangential springs (frictional only) [B]
+  std::size_t contactIndex = 0;  ///< per-particle index of its contacts for the gather [B]
+  std::size_t scratch = 0;       ///< per-contact results of the force pass [B]
+  std::size_t total() const {
+    return particles + integrator + neighbours + history + contactIndex + scratch;
+  }
+};
+
 /// Counters of the last step and of the run.
 struct StepCounters {
   std::size_t particleContacts = 0;  ///< particle pairs with overlap > 0 at the last step
@@ -133,6 +147,9 @@ class Simulation {
 
   /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
   void setRebuildEveryStep(bool on);
+
+  /// Memory held by the state's arrays [B].
+  MemoryUse memoryUse() const;
 
   /// FNV-1a hash of positions, velocities and angular velocities, bit for bit.
   std::uint64_t stateHash() const;

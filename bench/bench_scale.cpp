@@ -1,0 +1,229 @@
+/// granular_bench_scale: time per step and memory per particle from 10³ to 10⁶ particles, on 1
+/// and 2 threads (issue 6, "Scale"). A plain program rather than a Google Benchmark, because
+/// the memory figure needs the whole process to itself: it prints a markdown table row per case.
+///
+/// The bed: a dense random packing (denseRandomPacking, seed 20261123) of the paper's material
+/// and radii (0.030–0.035 m) with a square footprint and `--layers` lattice layers (default 12,
+/// a bed ≈ 0.55 m deep, like the lower half of the paper's), in a box with side walls and a
+/// floor, settled under gravity for `--settle` steps (untimed, same integrator) so that every
+/// particle carries its weight through ≈ 6 contacts. A fixed depth keeps the load per particle
+/// the same at every n, so the cost per particle-step should be the same too: linear scaling.
+/// The timed steps then run with the integrator and friction asked for, 1 and 2 threads, from
+/// the same settled state.
+///
+/// Memory: VmHWM (the process's peak resident set, from /proc/self/status) minus the resident
+/// set before the packing was built, divided by n: everything the run needed per particle,
+/// transient buffers of neighbour-list rebuilds included.
+///
+/// Usage: granular_bench_scale [--n 1000,10000,...] [--settle S] [--steps T] [--layers L]
+///                             [--friction MU] [--integrator gear5|verlet] [--shuffle]
+/// --shuffle puts the particles in a random order (seeded) instead of the packing's layer by
+/// layer order, to measure what a cache-unfriendly order costs.
+/// One process per size is best for the memory figure (the peak is per process):
+///   for n in 1000 10000 100000 1000000; do granular_bench_scale --n $n; done
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "granular/packings.hpp"
+#include "granular/scene.hpp"
+#include "granular/simulation.hpp"
+
+namespace {
+
+constexpr double kRadiusMin = 0.030;  // the paper's radii [m]
+constexpr double kRadiusMax = 0.035;
+constexpr double kTimeStep = 1e-4;  // [s], contact duration / 87 for the paper's material
+constexpr std::uint64_t kSeed = 20261123;
+
+/// A field of /proc/self/status in bytes (the kernel reports kB).
+double statusBytes(const std::string& key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(key + ":", 0) == 0) {
+      std::istringstream fields(line.substr(key.size() + 1));
+      double kb = 0;
+      fields >> kb;
+      return kb * 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+struct Options {
+  std::vector<long> sizes = {1000, 10000, 100000};
+  long settle = 1500;
+  long steps = 0;  // 0: about 2·10⁷ particle-steps per case, at least 20 steps
+  long layers = 12;
+  double friction = 0.3;
+  granular::Integrator integrator = granular::Integrator::Gear5;
+  bool shuffle = false;  // random particle order instead of the packing's spatial order
+};
+
+[[noreturn]] void usage(const std::string& what) {
+  std::cerr << "granular_bench_scale: " << what
+            << "\nusage: granular_bench_scale [--n N1,N2,...] [--settle S] [--steps T] "
+               "[--layers L] [--friction MU] [--integrator gear5|verlet] [--shuffle]\n";
+  std::exit(2);
+}
+
+long positiveInteger(const std::string& option, const std::string& text) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (end == text.c_str() || *end != '\0' || v < 1) {
+    usage(option + " = '" + text + "': expected an integer >= 1");
+  }
+  return v;
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int k = 1; k < argc; ++k) {
+    const std::string arg = argv[k];
+    if (arg == "--shuffle") {
+      o.shuffle = true;
+      continue;
+    }
+    if (k + 1 >= argc) usage("missing value after " + arg);
+    const std::string value = argv[++k];
+    if (arg == "--n") {
+      o.sizes.clear();
+      std::istringstream list(value);
+      for (std::string item; std::getline(list, item, ',');) {
+        o.sizes.push_back(positiveInteger("--n", item));
+      }
+    } else if (arg == "--settle") {
+      o.settle = positiveInteger(arg, value);
+    } else if (arg == "--steps") {
+      o.steps = positiveInteger(arg, value);
+    } else if (arg == "--layers") {
+      o.layers = positiveInteger(arg, value);
+    } else if (arg == "--friction") {
+      o.friction = std::strtod(value.c_str(), nullptr);
+      if (!(o.friction >= 0.0 && o.friction <= 10.0)) usage("--friction must be in [0, 10]");
+    } else if (arg == "--integrator") {
+      if (value == "gear5") {
+        o.integrator = granular::Integrator::Gear5;
+      } else if (value == "verlet") {
+        o.integrator = granular::Integrator::VelocityVerlet;
+      } else {
+        usage("--integrator = '" + value + "': expected gear5 or verlet");
+      }
+    } else {
+      usage("unknown option " + arg);
+    }
+  }
+  return o;
+}
+
+/// A seeded Fisher-Yates permutation of the particles (raw 64-bit draws, so it is the same
+/// everywhere).
+void shuffleParticles(granular::Particles& p) {
+  std::mt19937_64 rng(kSeed);
+  for (std::size_t i = p.size(); i > 1; --i) {
+    const std::size_t k = static_cast<std::size_t>(rng() % i);
+    std::swap(p.position[i - 1], p.position[k]);
+    std::swap(p.velocity[i - 1], p.velocity[k]);
+    std::swap(p.angularVelocity[i - 1], p.angularVelocity[k]);
+    std::swap(p.radius[i - 1], p.radius[k]);
+    std::swap(p.mass[i - 1], p.mass[k]);
+  }
+}
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+void runCase(long n, const Options& o) {
+  const double baseline = statusBytes("VmRSS");
+  // A square footprint with `layers` lattice layers: denseRandomPacking puts ≈ √(2n/L) sites
+  // along x and y when the aspect's z is 2n/(2n/L)^{3/2}.
+  granular::PackingLayout layout;
+  const double perSide = std::sqrt(2.0 * static_cast<double>(n) / static_cast<double>(o.layers));
+  layout.aspect = granular::Vec3(1.0, 1.0, 2.0 * static_cast<double>(n) / std::pow(perSide, 3));
+  granular::BoxSpec box;
+  granular::Particles particles =
+      granular::denseRandomPacking(static_cast<std::size_t>(n), kRadiusMin, kRadiusMax,
+                                   granular::Material{}.density, kSeed, &box, layout);
+
+  if (o.shuffle) shuffleParticles(particles);
+
+  granular::SimulationConfig config;
+  config.material.friction = o.friction;
+  config.integrator = o.integrator;
+  config.timeStep = kTimeStep;
+  config.threads = 2;
+  // One simulation settles and is then timed: a second one built from a copy of the settled
+  // particles would put the copy into the peak memory.
+  const auto settleStart = std::chrono::steady_clock::now();
+  granular::Simulation sim(std::move(particles), granular::buildWalls(box), config);
+  sim.run(static_cast<std::uint64_t>(o.settle));
+  const double settleSeconds = seconds(settleStart);
+
+  const long steps =
+      o.steps > 0 ? o.steps : std::max(20L, static_cast<long>(2e7 / static_cast<double>(n)));
+  for (int threads : {1, 2}) {
+    sim.setThreads(threads);
+    sim.run(2);  // warm the caches and the thread pool
+    const std::uint64_t rebuildsBefore = sim.counters().rebuilds;
+    double contacts = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (long k = 0; k < steps; ++k) {
+      sim.step();
+      contacts += 2.0 * static_cast<double>(sim.counters().particleContacts) +
+                  static_cast<double>(sim.counters().wallContacts);
+    }
+    const double wall = seconds(start);
+    const double particleSteps = static_cast<double>(n) * static_cast<double>(steps);
+    const double peak = statusBytes("VmHWM");
+    if (threads == 1) {
+      // Where the bytes are, from the arrays' capacities (stderr, beside the table).
+      const granular::MemoryUse m = sim.memoryUse();
+      const double per = 1.0 / static_cast<double>(n);
+      std::fprintf(stderr,
+                   "n = %ld: arrays %.0f B/particle = particles %.0f + integrator %.0f + "
+                   "neighbour list %.0f + history %.0f + contact index %.0f + force scratch "
+                   "%.0f; neighbour pairs %.2f/particle\n",
+                   n, per * static_cast<double>(m.total()), per * static_cast<double>(m.particles),
+                   per * static_cast<double>(m.integrator), per * static_cast<double>(m.neighbours),
+                   per * static_cast<double>(m.history), per * static_cast<double>(m.contactIndex),
+                   per * static_cast<double>(m.scratch),
+                   per * static_cast<double>(sim.counters().neighbourPairs));
+    }
+    std::printf("| %ld%s | %d | %s | %.2g | %.3f | %.3g M | %.1f | %.2f | %lu | %.0f | %.0f s |\n",
+                n, o.shuffle ? " (shuffled)" : "", threads,
+                o.integrator == granular::Integrator::Gear5 ? "Gear5" : "Verlet", o.friction,
+                1e3 * wall / static_cast<double>(steps), particleSteps / wall / 1e6,
+                1e9 * wall / particleSteps, contacts / particleSteps,
+                static_cast<unsigned long>(sim.counters().rebuilds - rebuildsBefore),
+                (peak - baseline) / static_cast<double>(n), settleSeconds);
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  std::printf(
+      "| n | threads | integrator | μ | ms / step | particle-steps / s | ns / particle-step | "
+      "contacts / particle | rebuilds | peak bytes / particle | settle (untimed) |\n"
+      "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (long n : o.sizes) {
+    try {
+      runCase(n, o);
+    } catch (const std::exception& e) {
+      std::cerr << "granular_bench_scale: n = " << n << ": " << e.what() << "\n";
+      return 1;
+    }
+  }
+  return 0;
+}
