@@ -3,9 +3,11 @@
 ///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
 ///   granular figures RUN_DIR
 ///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]
+///   granular bench-accuracy [--run DIR] [--out DIR] [--scenes DIR] [--quick]
 /// Exit status: 0 done, 1 I/O error, 2 invalid scene or configuration (or bad arguments).
 #include <CLI/CLI.hpp>
 
+#include "bench_accuracy_command.hpp"
 #include "calibrate_command.hpp"
 #include "paper_command.hpp"
 #include "paper_figures.hpp"
@@ -56,6 +58,23 @@ int main(int argc, char** argv) {
   figuresCommand->add_option("run_dir", figuresDir, "The --out folder of `granular paper`")
       ->required();
 
+  granular::app::BenchAccuracyOptions bench;
+  bench.scenesDir = GRANULAR_SCENES_DIR;
+  CLI::App* benchCommand = app.add_subcommand(
+      "bench-accuracy",
+      "Speed against error of Gear5 and velocity Verlet: impacts and the paper's stage 2");
+  benchCommand->add_option("--run", bench.runDir,
+                           "`granular paper --out` folder with the settled checkpoints (default: "
+                           "runs/paper)");
+  benchCommand->add_option("-o,--out", bench.outDir,
+                           "Output folder (default: runs/bench-accuracy, with --quick "
+                           "runs/bench-accuracy-quick)");
+  benchCommand->add_option("--scenes", bench.scenesDir,
+                           "Folder of paper-mu0.toml and paper-mu03.toml (default: the installed "
+                           "assets/scenes)");
+  benchCommand->add_flag("--quick", bench.quick,
+                         "Smoke run (about 15 s): fewer steps, μ = 0.3 only, stage 2 cut to 0.3 s");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -66,5 +85,11 @@ int main(int argc, char** argv) {
   if (*paperCommand) return granular::app::paperCommand(paper);
   if (*calibrateCommand) return granular::app::calibrateCommand(calibrate);
   if (*figuresCommand) return granular::app::figuresCommand(figuresDir);
+  if (*benchCommand) {
+    // A smoke run must not overwrite the results of a full one.
+    if (bench.quick && benchCommand->count("--out") == 0)
+      bench.outDir = "runs/bench-accuracy-quick";
+    return granular::app::benchAccuracyCommand(bench);
+  }
   return 2;
 }

@@ -267,6 +267,23 @@ void Simulation::setTimeStep(double dt) {
   state_->config.timeStep = dt;
 }
 
+void Simulation::setIntegrator(Integrator integrator) {
+  SimulationState& s = *state_;
+  if (integrator == s.config.integrator) return;
+  const std::size_t n = s.particles.size();
+  for (Derivatives* d : {&s.translation, &s.rotation}) {
+    if (d->d2.empty()) continue;  // no rotations on the frictionless path
+    for (std::vector<Vec3>* higher : {&d->d3, &d->d4, &d->d5}) {
+      if (integrator == Integrator::Gear5) {
+        higher->assign(n, Vec3::Zero());
+      } else {
+        std::vector<Vec3>().swap(*higher);  // Verlet keeps only the acceleration
+      }
+    }
+  }
+  s.config.integrator = integrator;
+}
+
 void Simulation::setThreads(int threads) {
   require(threads >= 0, "threads = " + std::to_string(threads) + ": must be >= 0");
   state_->config.threads = threads;

@@ -120,6 +120,11 @@ class Simulation {
   /// another step); refused like the constructor refuses it (ConfigError). Gear's derivatives
   /// are stored unscaled, so the change needs no rescaling.
   void setTimeStep(double dt);
+  /// Continues with another integrator from the current state (e.g. to compare Gear and Verlet
+  /// from one restored checkpoint, contact history included). Gear → Verlet keeps the
+  /// acceleration, all Verlet needs; Verlet → Gear starts Gear's higher derivatives at zero, as
+  /// a new simulation does.
+  void setIntegrator(Integrator integrator);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
   /// Sets a wall's prescribed velocity [m/s].
