@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <numbers>
 
+#include "granular/impact_probe.hpp"
 #include "granular/simulation.hpp"
 
 namespace granular::testing {
@@ -26,24 +27,11 @@ struct MeasuredImpact {
 template <class Overlap>
 MeasuredImpact measureImpact(Simulation& sim, Overlap overlap, double approachSpeed,
                              std::size_t particle, const Vec3& normal, double maxTime) {
+  const ImpactMeasurement traced = traceContact(
+      sim, [&overlap](const Simulation& s) { return overlap(s); }, maxTime);
   MeasuredImpact m;
-  double previous = overlap(sim), previousTime = sim.time();
-  double start = -1.0;
-  while (sim.time() < maxTime) {
-    sim.step();
-    const double h = overlap(sim);
-    m.peakOverlap = std::max(m.peakOverlap, h);
-    if (previous <= 0.0 && h > 0.0) {
-      start = previousTime + (sim.time() - previousTime) * (-previous) / (h - previous);
-    }
-    if (start >= 0.0 && previous > 0.0 && h <= 0.0) {
-      const double end = previousTime + (sim.time() - previousTime) * previous / (previous - h);
-      m.overlapDuration = end - start;
-      break;
-    }
-    previous = h;
-    previousTime = sim.time();
-  }
+  m.peakOverlap = traced.peakOverlap;
+  m.overlapDuration = traced.overlapDuration;
   m.velocityAfter = sim.particles().velocity[particle];
   m.angularVelocityAfter = sim.particles().angularVelocity[particle];
   m.restitution = m.velocityAfter.dot(normal) / approachSpeed;

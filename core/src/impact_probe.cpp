@@ -49,17 +49,15 @@ Simulation makePairImpact(const PairImpactSpec& spec) {
   return Simulation(std::move(p), {}, cfg);
 }
 
-ImpactMeasurement measurePairImpact(Simulation& sim, double approachSpeed, double maxTime) {
-  auto overlap = [&sim] {
-    const Particles& p = sim.particles();
-    return p.radius[0] + p.radius[1] - (p.position[1] - p.position[0]).norm();
-  };
+ImpactMeasurement traceContact(Simulation& sim,
+                               const std::function<double(const Simulation&)>& overlap,
+                               double maxTime) {
   ImpactMeasurement m;
-  double previous = overlap(), previousTime = sim.time(), start = -1.0;
+  double previous = overlap(sim), previousTime = sim.time(), start = -1.0;
   while (sim.time() < maxTime) {
     sim.step();
     ++m.steps;
-    const double h = overlap(), t = sim.time();
+    const double h = overlap(sim), t = sim.time();
     m.peakOverlap = std::max(m.peakOverlap, h);
     // The overlap is linear in time while no force acts, so these crossings are exact when
     // the neighbouring step end lies in free flight.
@@ -73,6 +71,17 @@ ImpactMeasurement measurePairImpact(Simulation& sim, double approachSpeed, doubl
     previous = h;
     previousTime = t;
   }
+  return m;
+}
+
+ImpactMeasurement measurePairImpact(Simulation& sim, double approachSpeed, double maxTime) {
+  ImpactMeasurement m = traceContact(
+      sim,
+      [](const Simulation& s) {
+        const Particles& p = s.particles();
+        return p.radius[0] + p.radius[1] - (p.position[1] - p.position[0]).norm();
+      },
+      maxTime);
   const Particles& p = sim.particles();
   const Vec3 normal = (p.position[1] - p.position[0]).normalized();
   m.restitution = (p.velocity[1] - p.velocity[0]).dot(normal) / approachSpeed;

@@ -3,6 +3,7 @@
 /// trajectory: the smallest problem on which an integrator's accuracy can be compared with the
 /// closed forms of contact_theory.hpp (design §4) and with a run at a much smaller step.
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "granular/contact_theory.hpp"
@@ -32,6 +33,13 @@ struct ImpactMeasurement {
   std::uint64_t steps = 0;  ///< steps taken until the separation was seen
   bool separated = false;   ///< false when `maxTime` ran out during the contact
 };
+
+/// Steps `sim` until `overlap` (positive while in contact) has gone positive and back to
+/// non-positive, or `maxTime` is reached; fills overlapDuration, peakOverlap, steps and
+/// separated of the result (restitution is the caller's: it depends on the bodies).
+ImpactMeasurement traceContact(Simulation& sim,
+                               const std::function<double(const Simulation&)>& overlap,
+                               double maxTime);
 
 /// The pair's reduced radius R/2 [m] and mass m/2 [kg] (two equal spheres, design §2).
 double pairReducedRadius(const PairImpactSpec& spec);
