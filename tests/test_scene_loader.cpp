@@ -256,6 +256,22 @@ TEST_F(SceneLoader, ParseErrorHasLineAndColumn) {
       << message;
 }
 
+TEST_F(SceneLoader, TimeStepLimitIsTheEngines) {
+  // The loader refuses exactly the steps the engine refuses: just below the loader's limit, the
+  // simulation builds.
+  const std::string message = errorOf(replaced(kMinimal, "time_step = 1e-4", "time_step = 1e-2"));
+  const std::string tag = "above the stable limit ";
+  const auto at = message.find(tag);
+  ASSERT_NE(at, std::string::npos) << message;
+  const double limit = std::stod(message.substr(at + tag.size()));
+  const std::string below = "time_step = " + std::to_string(0.999 * limit);
+  const Scene s = loadScene(write("ok.toml", replaced(kMinimal, "time_step = 1e-4", below)));
+  EXPECT_NO_THROW(buildSimulation(s));
+  const std::string above = "time_step = " + std::to_string(1.001 * limit);
+  EXPECT_THROW(loadScene(write("bad.toml", replaced(kMinimal, "time_step = 1e-4", above))),
+               SceneError);
+}
+
 TEST_F(SceneLoader, MissingFileIsASceneError) {
   EXPECT_THROW(loadScene(dir_ / "absent.toml"), SceneError);
 }
@@ -270,6 +286,8 @@ TEST_F(SceneLoader, MalformedScenesNameTheKey) {
   write("bad_row.csv", "x,y,z,r\n0.5,0.5,0.5,0.03\n0.2,0.2,abc,0.03\n");
   write("negative.csv", "x,y,z,r\n0.5,0.5,0.5,-0.03\n");
   write("nan.csv", "x,y,z,r\n0.5,nan,0.5,0.03\n");
+  write("outside.csv", "x,y,z,r\n0.5,0.5,0.5,0.03\n1.2,0.5,0.5,0.03\n");
+  write("overlap.csv", "x,y,z,r\n0.5,0.5,0.5,0.03\n0.54,0.5,0.5,0.03\n");
   const std::string gridKeys =
       "type = \"grid\"\norigin = [0, 0, 0]\ncell_size = 0.1\ncells = [2, 2, 2]\n"
       "radius_min = 0.03\nradius_max = 0.035\n";
@@ -405,6 +423,21 @@ TEST_F(SceneLoader, MalformedScenesNameTheKey) {
        kMinimal + "[output]\ninterval = 0\n",
        {"output.interval = 0", "must be > 0"}},
       {"zero total mass", "total_mass = 0\n" + kMinimal, {"total_mass = 0", "must be > 0"}},
+      {"time step above the engine's limit",
+       replaced(kMinimal, "time_step = 1e-4", "time_step = 1e-3"),
+       {"simulation.time_step = 0.001", "above the stable limit", "contact duration"}},
+      {"grid below the floor",
+       replaced(kMinimal, "origin = [0, 0, 0]", "origin = [0, 0, -0.1]"),
+       {"particles[0].origin", "grid particle 0", "outside the box", "face bottom at z = 0 m"}},
+      {"csv row outside the box",
+       replaced(csvScene, "FILE", "outside.csv"),
+       {"particles[0].file", "outside.csv:3", "row 2", "crosses the box face x+ at x = 1 m"}},
+      {"csv rows overlapping",
+       replaced(csvScene, "FILE", "overlap.csv"),
+       {"particles[0].file", "overlap.csv:3", "row 2 overlaps row 1 (line 2)"}},
+      {"stage of more than 1e12 steps",
+       replaced(kMinimal, "max_time = 1.0", "max_time = 1e9"),
+       {"stages[0].max_time = 1e+09", "at most 1e12 time steps"}},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);

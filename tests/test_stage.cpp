@@ -4,11 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <vector>
 
+#include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
+#include "physics_fixtures.hpp"
 
 namespace granular {
 namespace {
@@ -202,6 +206,84 @@ TEST(Stage, SnapshotsAndProgress) {
   EXPECT_EQ(snapshots, (std::vector<double>{0.0, 0.02, 0.0333}));  // once each, in order
   EXPECT_EQ(snapshotSteps, (std::vector<std::uint64_t>{0, 200, 333}));
   EXPECT_EQ(progressCalls, 5);
+}
+
+}  // namespace
+}  // namespace granular
+
+namespace granular {
+namespace {
+
+// A stage resumed from a checkpoint taken inside it continues exactly: the same samples at the
+// same times, the same end (the quiet-time condition included) and the same final state.
+TEST(Stage, ResumedFromACheckpointEndsAsIfItNeverStopped) {
+  StageSpec stage;
+  stage.name = "settle";
+  stage.end.maxTime = 2.0;
+  stage.end.kineticEnergyBelow = 3e-3;  // reached and held while the bed quietens
+  stage.end.sustainTime = 0.05;
+  stage.placeTopWallOnSurface = true;  // set-up that must not be applied twice
+  stage.resetClock = true;
+  OutputSpec output;
+  output.interval = 0.01;
+  output.snapshotTimes = {0.05, 0.2};
+
+  struct Record {
+    std::vector<std::pair<double, std::uint64_t>> samples;
+    std::vector<double> snapshots;
+  };
+  auto observe = [](Record& r) {
+    StageObserver o;
+    o.onSample = [&r](const Simulation& s) { r.samples.emplace_back(s.time(), s.stateHash()); };
+    o.onSnapshot = [&r](const Simulation&, double t) { r.snapshots.push_back(t); };
+    return o;
+  };
+  const SimulationConfig cfg = [] {
+    SimulationConfig c;
+    c.material.friction = 0.3;
+    c.material.normalDamping = 200.0;
+    c.timeStep = 2e-4;
+    return c;
+  }();
+
+  Record whole;
+  Simulation uninterrupted = testing::fallingGrid(3, 3, 2, cfg, 0.2);
+  uninterrupted.run(10);
+  const StageResult full = runStage(uninterrupted, stage, output, observe(whole));
+  ASSERT_EQ(full.reason, StageEndReason::KineticEnergy)  // the sustain logic is exercised
+      << "KE " << uninterrupted.kineticEnergy() << " J after " << full.duration << " s";
+
+  // The same run, stopped at a checkpoint while the kinetic energy is already low.
+  const auto file = std::filesystem::temp_directory_path() / "granular_test_stage_resume.ckpt";
+  Record first;
+  std::optional<StageProgress> saved;
+  Simulation interrupted = testing::fallingGrid(3, 3, 2, cfg, 0.2);
+  interrupted.run(10);
+  StageObserver stopping = observe(first);
+  stopping.checkpointSteps = 100;
+  struct Stop {};
+  stopping.onCheckpoint = [&](const Simulation& s, const StageProgress& p) {
+    if (!p.belowSince) return;
+    writeCheckpoint(s, file, 1);
+    saved = p;
+    throw Stop{};  // as a kill would
+  };
+  EXPECT_THROW(runStage(interrupted, stage, output, stopping), Stop);
+  ASSERT_TRUE(saved.has_value());
+
+  Simulation restored = readCheckpoint(file, 1);
+  std::filesystem::remove(file);
+  Record second;
+  const StageResult rest = runStage(restored, stage, output, observe(second), &*saved);
+  EXPECT_EQ(rest.reason, full.reason);
+  EXPECT_EQ(rest.steps, full.steps);
+  EXPECT_EQ(restored.stateHash(), uninterrupted.stateHash());
+  EXPECT_EQ(restored.walls().size(), uninterrupted.walls().size());  // one top wall, not two
+  Record joined = first;
+  joined.samples.insert(joined.samples.end(), second.samples.begin(), second.samples.end());
+  joined.snapshots.insert(joined.snapshots.end(), second.snapshots.begin(), second.snapshots.end());
+  EXPECT_EQ(joined.samples, whole.samples);
+  EXPECT_EQ(joined.snapshots, whole.snapshots);
 }
 
 }  // namespace

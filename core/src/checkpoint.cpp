@@ -5,11 +5,13 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
 #include "simulation_state.hpp"
+#include "state_checks.hpp"
 
 namespace granular {
 
@@ -185,9 +187,15 @@ void put(std::vector<char>& out, const T& v) {
 }  // namespace
 
 void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
-                     std::uint64_t sceneFingerprint) {
+                     std::uint64_t sceneFingerprint, const std::string& appData) {
+  const SimulationState& state = SimulationAccess::state(sim);
+  if (const std::optional<std::string> bad = firstNonFiniteParticle(state.particles)) {
+    throw CheckpointError(file.string() + ": not writing a checkpoint of a broken state: " + *bad);
+  }
   Writer w;
-  fields(w, const_cast<SimulationState&>(SimulationAccess::state(sim)));  // read only
+  fields(w, const_cast<SimulationState&>(state));  // read only
+  std::string data = appData;
+  w(data);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -210,9 +218,8 @@ void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
     throw CheckpointError(file.string() + ": cannot rename checkpoint into place: " + ec.message());
 }
 
-Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expectedFingerprint) {
-  const std::vector<char> bytes = readAll(file);
-  const std::string name = file.string();
+CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
+                                   std::uint64_t expectedFingerprint) {
   const std::size_t frame = sizeof kMagic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
   if (bytes.size() < frame + sizeof(std::uint64_t) ||
       std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
@@ -227,14 +234,17 @@ Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expec
   pos += sizeof fingerprint;
   std::memcpy(&payloadBytes, bytes.data() + pos, sizeof payloadBytes);
   pos += sizeof payloadBytes;
-  if (version != kCheckpointVersion) {
+  if (version != kCheckpointVersion && version != 2) {
     throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
-                          ", this build reads version " + std::to_string(kCheckpointVersion));
+                          ", this build reads versions 2 and " +
+                          std::to_string(kCheckpointVersion));
   }
-  if (bytes.size() != frame + payloadBytes + sizeof checksum) {
+  // Compared without adding to payloadBytes, which a corrupted header can make overflow.
+  if (bytes.size() - frame - sizeof checksum != payloadBytes) {
     throw CheckpointError(
         name + ": truncated or padded checkpoint: " + std::to_string(bytes.size()) +
-        " bytes, the header announces " + std::to_string(frame + payloadBytes + sizeof checksum));
+        " bytes, the header announces a " + std::to_string(payloadBytes) + "-byte payload in a " +
+        std::to_string(frame + sizeof checksum) + "-byte frame");
   }
   std::memcpy(&checksum, bytes.data() + pos + payloadBytes, sizeof checksum);
   if (checksum != fnv1a(bytes.data() + pos, payloadBytes)) {
@@ -246,9 +256,22 @@ Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expec
   auto state = std::make_unique<SimulationState>();
   Reader r(bytes.data() + pos, payloadBytes, name);
   fields(r, *state);
+  std::string appData;
+  if (version >= 3) r(appData);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
+  validateRestoredState(*state, name);
   buildContactIndex(state->neighbours, state->particles.size());
-  return SimulationAccess::make(std::move(state));
+  return {SimulationAccess::make(std::move(state)), std::move(appData)};
+}
+
+CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
+                                          std::uint64_t expectedFingerprint) {
+  const std::vector<char> bytes = readAll(file);
+  return parseCheckpoint(bytes, file.string(), expectedFingerprint);
+}
+
+Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expectedFingerprint) {
+  return std::move(readCheckpointWithData(file, expectedFingerprint).simulation);
 }
 
 std::uint64_t fingerprintFile(const std::filesystem::path& file) {

@@ -24,8 +24,9 @@ struct Gear5 {
   /// depend on the count.
   static void predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,
                       int threads = 1);
-  /// `accel` is the acceleration evaluated at the predicted state.
-  static void correct(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d,
+  /// `accel` is the acceleration evaluated at the predicted state. Returns false if a corrected
+  /// position or velocity is not finite (checked in the same loop: no extra pass).
+  static bool correct(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d,
                       const std::vector<Vec3>& accel, double dt, int threads = 1);
 };
 
@@ -34,11 +35,12 @@ struct Gear5 {
 /// kick then completes v_{n+1} = v_n + (a_n + a_{n+1}) Δt/2. Evaluating with the half-step
 /// velocity instead would make the scheme first order for velocity-dependent forces.
 struct VelocityVerlet {
-  /// x += v Δt + a Δt²/2; v += a Δt (the predicted velocity).
-  static void drift(std::vector<Vec3>* x, std::vector<Vec3>& v, const Derivatives& d, double dt,
+  /// x += v Δt + a Δt²/2; v += a Δt (the predicted velocity). Returns false if a new position
+  /// is not finite.
+  static bool drift(std::vector<Vec3>* x, std::vector<Vec3>& v, const Derivatives& d, double dt,
                     int threads = 1);
-  /// v += (accel - a) Δt/2; a = accel.
-  static void kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt,
+  /// v += (accel - a) Δt/2; a = accel. Returns false if a new velocity is not finite.
+  static bool kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel, double dt,
                    int threads = 1);
 };
 

@@ -23,9 +23,11 @@ struct CellGrid {
   std::vector<std::uint32_t> cellStart;  ///< prefix sums, size cells + 1
   std::vector<std::uint32_t> items;      ///< particle indices ordered by cell
 
+  /// Clamped before the cast, so that no position, however far out, overflows a long.
   long cellCoord(double x, int axis) const {
-    const long c = static_cast<long>(std::floor((x - origin[axis]) / cellSize));
-    return std::clamp(c, 0L, dims[axis] - 1);
+    const double c = std::floor((x - origin[axis]) / cellSize);
+    if (!(c > 0.0)) return 0;  // also NaN
+    return c < double(dims[axis] - 1) ? static_cast<long>(c) : dims[axis] - 1;
   }
   long cellIndex(long cx, long cy, long cz) const { return (cz * dims[1] + cy) * dims[0] + cx; }
 };
@@ -43,15 +45,21 @@ CellGrid binParticles(const Particles& p, double reach) {
   grid.cellSize = reach;
   // A particle far from the others must not blow up the cell count: cap it at ~2 cells/particle.
   const double maxCells = 2.0 * static_cast<double>(n) + 64.0;
+  // The count is formed in floating point and cast only once it is small: a particle thrown
+  // 1e300 m away must cost a larger cell, not an integer overflow.
+  // Half extents, which cannot overflow for finite positions.
+  const Vec3 half = hi * 0.5 - lo * 0.5;
+  // A NaN coordinate (a broken state on its way to being reported) counts as one cell.
+  auto cellsAlong = [&](int a) {
+    const double c = std::floor(half[a] / (0.5 * grid.cellSize)) + 1.0;
+    return c >= 1.0 ? c : 1.0;
+  };
   for (;;) {
-    double cells = 1.0;
-    for (int a = 0; a < 3; ++a) {
-      grid.dims[a] = static_cast<long>((hi[a] - lo[a]) / grid.cellSize) + 1;
-      cells *= static_cast<double>(grid.dims[a]);
-    }
+    const double cells = cellsAlong(0) * cellsAlong(1) * cellsAlong(2);
     if (cells <= maxCells) break;
-    grid.cellSize *= 1.5;
+    grid.cellSize *= cells < 1e6 * maxCells ? 1.5 : 1e3;  // big leaps for absurd extents
   }
+  for (int a = 0; a < 3; ++a) grid.dims[a] = static_cast<long>(cellsAlong(a));
   const std::size_t cellCount =
       static_cast<std::size_t>(grid.dims[0] * grid.dims[1] * grid.dims[2]);
   std::vector<std::uint32_t> cellOf(n);

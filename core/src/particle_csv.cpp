@@ -96,8 +96,8 @@ std::vector<CsvParticle> readParticleCsv(const std::filesystem::path& path) {
       if (c == 3 && *value <= 0.0) throw ConfigError(where + column + "radius must be > 0");
       values[c] = *value;
     }
-    particles.push_back(
-        {Vec3(values[0], values[1], values[2]), values[3], Vec3(values[4], values[5], values[6])});
+    particles.push_back({Vec3(values[0], values[1], values[2]), values[3],
+                         Vec3(values[4], values[5], values[6]), lineNumber});
   }
   if (in.bad()) throw ConfigError(path.string() + ": read error");
   if (particles.empty()) throw ConfigError(path.string() + ": no particle rows");

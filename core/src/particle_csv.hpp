@@ -1,6 +1,7 @@
 #pragma once
 /// Reading particles from a CSV file (private to the core; used by the scene loader, which checks
 /// the file early, and by the scene builder, which places the particles).
+#include <cstddef>
 #include <filesystem>
 #include <vector>
 
@@ -13,6 +14,7 @@ struct CsvParticle {
   Vec3 position = Vec3::Zero();  ///< centre [m]
   double radius = 0.0;           ///< [m]
   Vec3 velocity = Vec3::Zero();  ///< [m/s]; zero when the row has only x,y,z,r
+  std::size_t line = 0;          ///< line of the row in the file (from 1); 0 if not from a file
 };
 
 /// Reads a header line, then rows x,y,z,r[,vx,vy,vz] (m, m/s). Blank lines and lines starting

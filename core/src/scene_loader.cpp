@@ -10,7 +10,7 @@
 /// material.youngs_modulus             | Pa    | (0, 1e12]                    | 0.3e6
 /// material.poisson_ratio              | -     | [0, 0.5)                     | 0.30
 /// material.shear_modulus              | Pa    | (0, 1e12]                    | 0.11e6
-/// material.density                    | kg/m³ | > 0                          | 500
+/// material.density                    | kg/m³ | (0, 1e12]                    | 500
 /// material.friction                   | -     | [0, 10]                      | 0
 /// material.normal_damping             | 1/s   | >= 0                         | 60
 /// material.tangential_damping         | 1/s   | >= 0                         | 10
@@ -33,7 +33,7 @@
 /// particles[i].seed          (grid)   | -     | integer >= 0                 | 1
 /// particles[i].file          (csv)    | -     | path from the scene's folder | required
 /// stages[i].name                      | -     | non-empty, unique            | "stage<i+1>"
-/// stages[i].max_time                  | s     | > 0                          | required
+/// stages[i].max_time                  | s     | > 0, at most 1e12 time steps | required
 /// stages[i].kinetic_energy_below      | J     | > 0                          | none
 /// stages[i].sustain_time              | s     | [0, max_time]                | 0
 /// stages[i].place_top_wall_on_surface | -     | boolean                      | false
@@ -47,13 +47,25 @@
 /// particle speed plus the free-fall speed sqrt(2|g|h), h being the height of the highest
 /// particle top above the box floor; 1 m/s if that comes out as 0 (no gravity, no motion).
 ///
-/// Sections: 1. material; 2. simulation; 3. box; 4. particles; 5. stages; 6. output; 7. loadScene.
+/// Particles are checked as the builder will place them: each must lie inside the box, the rows
+/// of a CSV file must not overlap, and the time step must be below the engine's limit
+/// (kMaxStepFraction of the stiffest contact's duration). The loader does these checks so that
+/// the message names the file, the key and the CSV line; the builder and the engine check again.
+///
+/// Sections: 1. material; 2. simulation; 3. box; 4. particles; 5. stages; 6. output;
+/// 7. time step; 8. loadScene.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <map>
+#include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "particle_csv.hpp"
@@ -67,16 +79,55 @@ constexpr double kMaxModulus = 1e12;  // [Pa]; catches a unit slip (MPa vs Pa ×
 constexpr std::int64_t kMaxCellsPerAxis = 100000;
 constexpr std::int64_t kMaxParticles = 100000000;
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
+constexpr double kMaxDensity = 1e12;  // [kg/m³]; far above any material, even density-scaled
+/// A stage longer than this many steps is a unit slip or a "forever"; it would never end.
+constexpr double kMaxStageSteps = 1e12;
 
 std::vector<std::string_view> boxWallNames() {
   return {kBoxWallNames.begin(), kBoxWallNames.end()};
 }
 
-/// What the particle sources tell about the expected impact speed.
+/// What the particle sources tell about the expected impact speed and the time-step limit.
 struct MotionBound {
-  double highestTop = -std::numeric_limits<double>::infinity();  ///< max z + r [m]
-  double fastest = 0.0;                                          ///< max initial speed [m/s]
+  double highestTop = -std::numeric_limits<double>::infinity();     ///< max z + r [m]
+  double fastest = 0.0;                                             ///< max initial speed [m/s]
+  double smallestRadius = std::numeric_limits<double>::infinity();  ///< [m]
+  double volume = 0.0;  ///< Σ (4/3)π R³ in particle order, as the builder sums it [m³]
+  void add(double radius) {
+    smallestRadius = std::min(smallestRadius, radius);
+    volume += 4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3);
+  }
 };
+
+std::string formatPoint(const Vec3& x) {
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "(" + std::string + ...
+  std::string out = "(";
+  out += formatNumber(x.x());
+  out += ", ";
+  out += formatNumber(x.y());
+  out += ", ";
+  out += formatNumber(x.z());
+  out += ')';
+  return out;
+}
+
+/// "" if a sphere at `centre` lies inside the box, else which face it crosses. The x and y faces
+/// and the floor always bound it; the top only when it is a wall (particles may start above an
+/// open box). The same rule as the builder's.
+std::string boxCrossing(const Vec3& centre, double radius, const BoxSpec& box) {
+  for (std::size_t face = 0; face < kBoxWallNames.size(); ++face) {
+    if (face == 5 && !box.walls[5]) continue;
+    const int axis = int(face / 2);
+    const bool lower = face % 2 == 0;
+    const double x = centre[axis];
+    if (lower ? x - radius < box.min[axis] : x + radius > box.max[axis]) {
+      return "is outside the box: crosses the box face " + std::string(kBoxWallNames[face]) +
+             " at " + "xyz"[axis] + " = " + formatNumber(lower ? box.min[axis] : box.max[axis]) +
+             " m";
+    }
+  }
+  return {};
+}
 
 // 1. Material -------------------------------------------------------------------------------------
 
@@ -91,6 +142,9 @@ Material readMaterial(const TomlTableReader& root, const std::string& file) {
   m.poissonRatio = r.number("poisson_ratio", m.poissonRatio, Range::halfOpen(0, 0.5));
   m.shearModulus = r.number("shear_modulus", m.shearModulus, Range::aboveUpTo(0, kMaxModulus));
   m.density = r.number("density", m.density, Range::above(0));
+  if (m.density > kMaxDensity) {
+    r.fail("density", "must be at most " + formatNumber(kMaxDensity) + " kg/m³ (a unit slip?)");
+  }
   m.friction = r.number("friction", m.friction, Range::closed(0, 10));
   m.normalDamping = r.number("normal_damping", m.normalDamping, Range::atLeast(0));
   m.tangentialDamping = r.number("tangential_damping", m.tangentialDamping, Range::atLeast(0));
@@ -148,7 +202,32 @@ BoxSpec readBox(const TomlTableReader& root, const std::string& file) {
 
 // 4. Particles ------------------------------------------------------------------------------------
 
-GridGenerator readGrid(const TomlTableReader& r, MotionBound& bound) {
+/// Replays the grid's documented sampling (docs/scenes.md: four draws per particle from
+/// std::mt19937_64(seed), the radius from the first) to find each particle's radius and centre
+/// exactly as the builder will: the smallest radius and total volume set the time-step limit,
+/// and a particle outside the box is reported here, against the scene file. Cheap next to the
+/// run: a few nanoseconds a particle.
+void checkGridParticles(const TomlTableReader& r, const GridGenerator& g, const BoxSpec& box,
+                        MotionBound& bound) {
+  std::mt19937_64 rng(g.seed);
+  const std::size_t nx = std::size_t(g.cells[0]), ny = std::size_t(g.cells[1]);
+  for (std::size_t k = 0; k < g.count; ++k) {
+    const double u = double(rng() >> 11) * 0x1.0p-53;
+    rng.discard(3);  // speed, direction, azimuth
+    const double radius = g.radiusMin + (g.radiusMax - g.radiusMin) * u;
+    const Vec3 cell(double(k % nx), double((k / nx) % ny), double(k / (nx * ny)));
+    const Vec3 centre = g.origin + (cell + Vec3::Constant(0.5)) * g.cellSize;
+    const std::string crossing = boxCrossing(centre, radius, box);
+    if (!crossing.empty()) {
+      r.fail("origin", "grid particle " + std::to_string(k) + " at " + formatPoint(centre) +
+                           " with radius " + formatNumber(radius) + " m " + crossing +
+                           " (check origin, cell_size and cells against box.min and box.max)");
+    }
+    bound.add(radius);
+  }
+}
+
+GridGenerator readGrid(const TomlTableReader& r, const BoxSpec& box, MotionBound& bound) {
   r.expectOnly({"type", "origin", "cell_size", "cells", "count", "radius_min", "radius_max",
                 "speed_max", "seed"});
   GridGenerator g;
@@ -173,6 +252,7 @@ GridGenerator readGrid(const TomlTableReader& r, MotionBound& bound) {
   }
   g.speedMax = r.number("speed_max", 0.0, Range::atLeast(0));
   g.seed = std::uint64_t(r.integer("seed", 1, 0, kMaxInt));
+  checkGridParticles(r, g, box, bound);
 
   // Highest particle top: the last filled layer (z fastest-varying last) plus the largest radius.
   const std::int64_t layers = (count + cells[0] * cells[1] - 1) / (cells[0] * cells[1]);
@@ -182,27 +262,76 @@ GridGenerator readGrid(const TomlTableReader& r, MotionBound& bound) {
   return g;
 }
 
+/// The first row (in file order) that overlaps an earlier row, reported with both. Rows are
+/// binned into cells of edge 2·R_max, so overlapping rows are in the same or adjacent cells.
+void checkNoOverlap(const TomlTableReader& r, const std::filesystem::path& path,
+                    const std::vector<CsvParticle>& rows) {
+  double maxRadius = 0.0;
+  for (const CsvParticle& p : rows) maxRadius = std::max(maxRadius, p.radius);
+  using Cell = std::array<long long, 3>;
+  auto cellOf = [&](const Vec3& x) {
+    const Vec3 c = (x / (2.0 * maxRadius)).array().floor();
+    return Cell{(long long)c.x(), (long long)c.y(), (long long)c.z()};
+  };
+  std::map<Cell, std::vector<std::size_t>> cells;
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const Cell home = cellOf(rows[j].position);
+    for (long long dx = -1; dx <= 1; ++dx) {
+      for (long long dy = -1; dy <= 1; ++dy) {
+        for (long long dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find(Cell{home[0] + dx, home[1] + dy, home[2] + dz});
+          if (it == cells.end()) continue;
+          for (const std::size_t i : it->second) {
+            const double gap = (rows[j].position - rows[i].position).norm();
+            const double reach = rows[i].radius + rows[j].radius;
+            if (gap >= reach) continue;
+            r.fail("file", path.string() + ":" + std::to_string(rows[j].line) + ": row " +
+                               std::to_string(j + 1) + " overlaps row " + std::to_string(i + 1) +
+                               " (line " + std::to_string(rows[i].line) + "): centres " +
+                               formatPoint(rows[i].position) + " and " +
+                               formatPoint(rows[j].position) + " are " + formatNumber(gap) +
+                               " m apart, radii sum " + formatNumber(reach) + " m");
+          }
+        }
+      }
+    }
+    cells[home].push_back(j);
+  }
+}
+
 CsvGenerator readCsv(const TomlTableReader& r, const std::filesystem::path& folder,
-                     MotionBound& bound) {
+                     const BoxSpec& box, MotionBound& bound) {
   r.expectOnly({"type", "file"});
   const std::string name = r.string("file");
   if (name.empty()) r.fail("file", "must name a CSV file");
   CsvGenerator g;
   g.path = std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : folder / name;
   // Read it now, so a bad row is reported against the scene key that names the file.
+  std::vector<CsvParticle> rows;
   try {
-    for (const CsvParticle& p : readParticleCsv(g.path)) {
-      bound.highestTop = std::max(bound.highestTop, p.position.z() + p.radius);
-      bound.fastest = std::max(bound.fastest, p.velocity.norm());
-    }
+    rows = readParticleCsv(g.path);
   } catch (const ConfigError& e) {
     r.fail("file", e.what());
   }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CsvParticle& p = rows[i];
+    const std::string crossing = boxCrossing(p.position, p.radius, box);
+    if (!crossing.empty()) {
+      r.fail("file", g.path.string() + ":" + std::to_string(p.line) + ": row " +
+                         std::to_string(i + 1) + " at " + formatPoint(p.position) +
+                         " with radius " + formatNumber(p.radius) + " m " + crossing);
+    }
+    bound.highestTop = std::max(bound.highestTop, p.position.z() + p.radius);
+    bound.fastest = std::max(bound.fastest, p.velocity.norm());
+    bound.add(p.radius);
+  }
+  checkNoOverlap(r, g.path, rows);
   return g;
 }
 
 std::vector<Generator> readParticles(const TomlTableReader& root, const std::string& file,
-                                     const std::filesystem::path& folder, MotionBound& bound) {
+                                     const std::filesystem::path& folder, const BoxSpec& box,
+                                     MotionBound& bound) {
   const toml::array* array = root.tableArray("particles");
   if (!array) root.failMissing("particles");
   std::vector<Generator> generators;
@@ -214,9 +343,9 @@ std::vector<Generator> readParticles(const TomlTableReader& root, const std::str
                   "speed_max", "seed", "file"});
     const std::string type = r.choice("type", "", {"grid", "csv"});
     if (type == "grid") {
-      generators.emplace_back(readGrid(r, bound));
+      generators.emplace_back(readGrid(r, box, bound));
     } else {
-      generators.emplace_back(readCsv(r, folder, bound));
+      generators.emplace_back(readCsv(r, folder, box, bound));
     }
   }
   return generators;
@@ -247,7 +376,7 @@ std::vector<WallMotion> readWallMotions(const TomlTableReader& stage, const std:
 }
 
 std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string& file,
-                                  const BoxSpec& box) {
+                                  const BoxSpec& box, double timeStep) {
   const toml::array* array = root.tableArray("stages");
   if (!array) root.failMissing("stages");
   std::vector<StageSpec> stages;
@@ -263,6 +392,11 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
       if (earlier.name == s.name) r.fail("name", "another stage has this name");
     }
     s.end.maxTime = r.number("max_time", Range::above(0));
+    if (s.end.maxTime > kMaxStageSteps * timeStep) {
+      r.fail("max_time",
+             "must be at most 1e12 time steps: " + formatNumber(kMaxStageSteps * timeStep) +
+                 " s at simulation.time_step = " + formatNumber(timeStep));
+    }
     s.end.kineticEnergyBelow = r.optionalNumber("kinetic_energy_below", Range::above(0));
     s.end.sustainTime = r.number("sustain_time", 0.0, Range::closed(0, s.end.maxTime));
     if (r.has("sustain_time") && !s.end.kineticEnergyBelow) {
@@ -304,9 +438,59 @@ double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Ve
   return speed > 0.0 ? speed : 1.0;
 }
 
+// 7. Time step ------------------------------------------------------------------------------------
+
+std::string sixDigits(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", x);
+  return buffer;
+}
+
+/// A reader of `key`'s table, or of the root when the table is absent (a default is at fault).
+TomlTableReader tableOrRoot(const TomlTableReader& root, std::string_view key,
+                            const std::string& file) {
+  if (const toml::table* table = root.subTable(key)) {
+    return TomlTableReader(*table, std::string(key), file);
+  }
+  return root;
+}
+
+/// The engine's stability rule (Simulation refuses the same step), checked with the density the
+/// builder will use, so that the message can name the key. Also refuses a total_mass that would
+/// give a density beyond kMaxDensity, and a damping that over-damps the stiffest contact.
+void checkTimeStep(const TomlTableReader& root, const std::string& file, const Scene& scene,
+                   const MotionBound& bound) {
+  Material material = scene.simulation.material;
+  if (scene.totalMass) {
+    material.density = *scene.totalMass / bound.volume;
+    if (!(material.density <= kMaxDensity)) {
+      root.fail("total_mass", "gives the particles a density of " + formatNumber(material.density) +
+                                  " kg/m³; must be at most " + formatNumber(kMaxDensity));
+    }
+  }
+  ContactScale scale;
+  try {
+    scale = stiffestContact(material, bound.smallestRadius, scene.simulation.impactSpeed);
+  } catch (const ConfigError& e) {
+    tableOrRoot(root, "material", file).fail("normal_damping", e.what());
+  }
+  const double dt = scene.simulation.timeStep;
+  const double limit = kMaxStepFraction * scale.duration;
+  if (dt > limit) {
+    const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
+    simulation.fail("time_step",
+                    "above the stable limit " + sixDigits(limit) +
+                        " s = 1/10 of the contact duration " + sixDigits(scale.duration) +
+                        " s of the stiffest contact (radius " + sixDigits(scale.radius) + " m " +
+                        (scale.againstWall ? "against a wall" : "against an equal particle") +
+                        "); use at most " + sixDigits(limit) +
+                        " s (1/50 to 1/20 of the duration is usual)");
+  }
+}
+
 }  // namespace
 
-// 7. loadScene ------------------------------------------------------------------------------------
+// 8. loadScene ------------------------------------------------------------------------------------
 
 Scene loadScene(const std::filesystem::path& file) {
   const std::string name = file.string();
@@ -320,6 +504,9 @@ Scene loadScene(const std::filesystem::path& file) {
   } catch (const toml::parse_error& e) {
     throw SceneError(locationPrefix(name, e.source()) + std::string(e.description()));
   }
+  if (document.empty()) {
+    throw SceneError(name + ": the scene is empty (no keys); docs/scenes.md lists them");
+  }
 
   const TomlTableReader root(
       document, "", name,
@@ -330,13 +517,14 @@ Scene loadScene(const std::filesystem::path& file) {
   const bool impactSpeedGiven = readSimulation(root, name, scene.simulation);
   scene.box = readBox(root, name);
   MotionBound bound;
-  scene.generators = readParticles(root, name, file.parent_path(), bound);
+  scene.generators = readParticles(root, name, file.parent_path(), scene.box, bound);
   scene.totalMass = root.optionalNumber("total_mass", Range::above(0));
-  scene.stages = readStages(root, name, scene.box);
+  scene.stages = readStages(root, name, scene.box, scene.simulation.timeStep);
   scene.output = readOutput(root, name);
   if (!impactSpeedGiven) {
     scene.simulation.impactSpeed = defaultImpactSpeed(bound, scene.box, scene.simulation.gravity);
   }
+  checkTimeStep(root, name, scene, bound);
   return scene;
 }
 

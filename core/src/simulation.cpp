@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <sstream>
 
 #include "force_pass.hpp"
 #include "granular/error.hpp"
 #include "integrators.hpp"
 #include "simulation_state.hpp"
+#include "state_checks.hpp"
 
 namespace granular {
 namespace {
@@ -38,6 +40,19 @@ void requireStableStep(double dt, const ContactScale& scale, double rMin) {
         << "); use at most " << limit << " s (1/50 to 1/20 of the duration is usual)";
     throw ConfigError(msg.str());
   }
+}
+
+/// Stops the run at the step that broke the state (design: never lie quietly).
+[[noreturn]] void reportBrokenState(const SimulationState& s) {
+  const std::optional<std::string> what = firstNonFiniteParticle(s.particles);
+  std::ostringstream msg;
+  msg.precision(9);
+  msg << "step " << s.steps
+      << " (t = " << s.timeOrigin + double(s.stepsSinceOrigin) * s.config.timeStep
+      << " s): " << (what ? *what : std::string("a value is not finite"))
+      << "; the state is broken and the run stops (a time step too large for a contact, or a "
+         "NaN in the input)";
+  throw NumericalError(msg.str());
 }
 
 void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
@@ -153,11 +168,12 @@ void Simulation::step() {
   const int threads = s.config.threads;
 
   // 1. Predict.
+  bool driftedFinite = true;
   if (gear) {
     Gear5::predict(&p.position, p.velocity, s.translation, dt, threads);
     if (s.frictional) Gear5::predict(nullptr, p.angularVelocity, s.rotation, dt, threads);
   } else {
-    VelocityVerlet::drift(&p.position, p.velocity, s.translation, dt, threads);
+    driftedFinite = VelocityVerlet::drift(&p.position, p.velocity, s.translation, dt, threads);
     if (s.frictional) VelocityVerlet::drift(nullptr, p.angularVelocity, s.rotation, dt, threads);
   }
   // 2. Walls.
@@ -180,14 +196,21 @@ void Simulation::step() {
     s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
     if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
   }
-  // 6. Correct.
+  // 6. Correct, noting whether every position and velocity is still a number.
+  bool finite = true;
   if (gear) {
-    Gear5::correct(&p.position, p.velocity, s.translation, s.force, dt, threads);
-    if (s.frictional) Gear5::correct(nullptr, p.angularVelocity, s.rotation, s.torque, dt, threads);
+    finite = Gear5::correct(&p.position, p.velocity, s.translation, s.force, dt, threads);
+    if (s.frictional) {
+      finite &= Gear5::correct(nullptr, p.angularVelocity, s.rotation, s.torque, dt, threads);
+    }
   } else {
-    VelocityVerlet::kick(p.velocity, s.translation, s.force, dt, threads);
-    if (s.frictional) VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt, threads);
+    finite = driftedFinite;
+    finite &= VelocityVerlet::kick(p.velocity, s.translation, s.force, dt, threads);
+    if (s.frictional) {
+      finite &= VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt, threads);
+    }
   }
+  if (!finite) reportBrokenState(s);
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;
   EnergyAccumulators& e = s.energy;

@@ -65,6 +65,14 @@ class StageClock {
     snapshots_.erase(std::unique(snapshots_.begin(), snapshots_.end()), snapshots_.end());
   }
 
+  /// Continuing a stage at stage time t whose samples and snapshots up to t were all taken.
+  void resumeAt(double t) {
+    nextSample_ = std::uint64_t(std::floor((t + tolerance_) / output_.interval)) + 1;
+    while (nextSnapshot_ < snapshots_.size() && snapshots_[nextSnapshot_] <= t + tolerance_) {
+      ++nextSnapshot_;
+    }
+  }
+
   /// Called at the stage start (t = 0) and after every step with the stage time t [s].
   void observe(const Simulation& sim, double t) {
     // The sample index is an integer: k·interval is compared, never a running sum of intervals.
@@ -90,22 +98,29 @@ class StageClock {
 }  // namespace
 
 StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& output,
-                     const StageObserver& observer) {
+                     const StageObserver& observer, const StageProgress* resume) {
   if (!(output.interval > 0.0)) throw ConfigError("output interval must be > 0");
   if (!(stage.end.maxTime > 0.0)) {
     throw ConfigError("stage '" + stage.name + "': max time must be > 0");
   }
-  if (stage.resetClock) sim.setTime(0.0);
-  if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
-  applyWallMotions(sim, stage);
+  if (!resume) {
+    if (stage.resetClock) sim.setTime(0.0);
+    if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
+    applyWallMotions(sim, stage);
+  }
 
   const double dt = sim.config().timeStep;
   const double tolerance = 1e-6 * dt;
   StageClock clock(output, observer, dt);
-  clock.observe(sim, 0.0);
+  if (resume) {
+    clock.resumeAt(double(resume->steps) * dt);
+  } else {
+    clock.observe(sim, 0.0);
+  }
 
   // Quasistatic end: the kinetic energy must stay below the threshold from `belowSince` on.
   std::optional<double> belowSince;
+  if (resume) belowSince = resume->belowSince;
   auto quiet = [&](double t) {
     if (!stage.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage.end.kineticEnergyBelow) {
       belowSince.reset();
@@ -114,10 +129,11 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     if (!belowSince) belowSince = t;
     return t - *belowSince + tolerance >= stage.end.sustainTime;
   };
-  quiet(0.0);  // the initial state counts towards the sustain time, but cannot end the stage
+  // The initial state counts towards the sustain time, but cannot end the stage.
+  if (!resume) quiet(0.0);
 
   StageResult result;
-  std::uint64_t n = 0;
+  std::uint64_t n = resume ? resume->steps : 0;
   while (double(n) * dt + tolerance < stage.end.maxTime) {
     sim.step();
     ++n;
@@ -129,6 +145,10 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     if (quiet(t)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
+    }
+    if (observer.onCheckpoint && observer.checkpointSteps > 0 &&
+        n % observer.checkpointSteps == 0) {
+      observer.onCheckpoint(sim, StageProgress{n, belowSince});
     }
   }
   result.steps = n;

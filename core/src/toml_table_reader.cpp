@@ -35,7 +35,8 @@ std::string typeName(const toml::node& node) {
     case toml::node_type::boolean:
       return "a boolean";
     case toml::node_type::array:
-      return "an array of " + std::to_string(node.as_array()->size()) + " values";
+      return "an array of " + std::to_string(node.as_array()->size()) +
+             (node.as_array()->size() == 1 ? " value" : " values");
     case toml::node_type::table:
       return "a table";
     default:

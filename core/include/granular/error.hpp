@@ -18,4 +18,13 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A state that stopped being a number (NaN or infinity) during a step, detected at the end of
+/// that step. The message names the step, the time and the first broken particle; the
+/// Simulation is unusable afterwards (restart from the last checkpoint, which is never written
+/// from a broken state).
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace granular

@@ -2,6 +2,7 @@
 /// Running a stage: stepping until its end condition, sampling at the output interval.
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "granular/scene.hpp"
 
@@ -18,6 +19,13 @@ struct StageResult {
   std::uint64_t steps = 0;
 };
 
+/// How far a stage has run: with the simulation's own state (a checkpoint), enough to continue
+/// the stage exactly where it was.
+struct StageProgress {
+  std::uint64_t steps = 0;           ///< steps taken since the stage began
+  std::optional<double> belowSince;  ///< stage time since which the kinetic energy is low [s]
+};
+
 /// Callbacks of a running stage; any may be empty.
 struct StageObserver {
   /// At the stage start and every output interval of simulated time (stage clock).
@@ -27,10 +35,17 @@ struct StageObserver {
   /// Every `progressSteps` steps (for progress lines; the core itself never prints).
   std::function<void(const Simulation&, const StageSpec&)> onProgress;
   std::uint64_t progressSteps = 1000;
+  /// Every `checkpointSteps` steps (0: never), after the step's samples: a moment at which the
+  /// simulation and `progress` can be saved and the stage resumed from them.
+  std::function<void(const Simulation&, const StageProgress& progress)> onCheckpoint;
+  std::uint64_t checkpointSteps = 0;
 };
 
 /// Applies the stage's set-up (clock reset, top wall, wall velocities) and steps to its end.
+/// With `resume`, the simulation is a checkpoint taken inside this stage: the set-up is already
+/// in it, and the stage continues from `resume` as if it had never stopped (same samples, same
+/// end, bit for bit).
 StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& output,
-                     const StageObserver& observer);
+                     const StageObserver& observer, const StageProgress* resume = nullptr);
 
 }  // namespace granular

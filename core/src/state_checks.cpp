@@ -1,0 +1,217 @@
+/// State integrity checks (state_checks.hpp).
+#include "state_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "granular/checkpoint.hpp"
+
+namespace granular {
+
+namespace {
+
+std::string describe(const Vec3& v) {
+  std::ostringstream o;
+  o.precision(6);
+  o << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return o.str();
+}
+
+/// Collects the first problem found; the reader stops at it.
+class Checker {
+ public:
+  explicit Checker(const std::string& file) : file_(file) {}
+  void require(bool ok, const std::string& what) const {
+    if (!ok) throw CheckpointError(file_ + ": inconsistent checkpoint: " + what);
+  }
+  void finite(double x, const char* what) const {
+    require(std::isfinite(x), std::string(what) + " is not finite");
+  }
+  void positive(double x, const char* what) const {
+    require(std::isfinite(x) && x > 0, std::string(what) + " must be finite and > 0");
+  }
+  void nonNegative(double x, const char* what) const {
+    require(std::isfinite(x) && x >= 0, std::string(what) + " must be finite and >= 0");
+  }
+  void finite(const Vec3& v, const char* what) const {
+    require(v.allFinite(), std::string(what) + " " + describe(v) + " is not finite");
+  }
+  template <class T>
+  void sized(const std::vector<T>& v, std::size_t n, const char* what) const {
+    require(v.size() == n, std::string(what) + " has " + std::to_string(v.size()) +
+                               " entries, expected " + std::to_string(n));
+  }
+
+ private:
+  const std::string& file_;
+};
+
+void checkConfig(const Checker& c, const SimulationState& s) {
+  const Material& m = s.config.material;
+  c.positive(m.youngModulus, "Young's modulus");
+  c.require(m.poissonRatio >= 0 && m.poissonRatio < 0.5, "Poisson's ratio must be in [0, 0.5)");
+  c.positive(m.shearModulus, "shear modulus");
+  c.positive(m.density, "density");
+  c.nonNegative(m.friction, "friction");
+  c.nonNegative(m.normalDamping, "normal damping");
+  c.nonNegative(m.tangentialDamping, "tangential damping");
+  c.require(m.normalLaw == NormalLaw::Hooke || m.normalLaw == NormalLaw::Hertz,
+            "unknown normal law " + std::to_string(int(m.normalLaw)));
+  const SimulationConfig& cfg = s.config;
+  c.finite(cfg.gravity, "gravity");
+  c.require(cfg.integrator == Integrator::Gear5 || cfg.integrator == Integrator::VelocityVerlet,
+            "unknown integrator " + std::to_string(int(cfg.integrator)));
+  c.positive(cfg.timeStep, "time step");
+  c.nonNegative(cfg.skin, "skin");
+  c.positive(cfg.impactSpeed, "impact speed");
+  c.finite(s.timeOrigin, "clock origin");
+  c.require(s.frictional == m.hasFriction(), "friction flag disagrees with the friction");
+  c.positive(s.contactScale.duration, "contact duration");
+  c.positive(s.contactScale.radius, "contact radius");
+}
+
+void checkParticles(const Checker& c, const SimulationState& s) {
+  const Particles& p = s.particles;
+  const std::size_t n = p.size();
+  c.require(n > 0, "no particles");
+  // Pair indices are 32-bit.
+  c.require(n < std::numeric_limits<std::uint32_t>::max(), "too many particles");
+  c.sized(p.velocity, n, "velocities");
+  c.sized(p.angularVelocity, n, "angular velocities");
+  c.sized(p.radius, n, "radii");
+  c.sized(p.mass, n, "masses");
+  if (const std::optional<std::string> bad = firstNonFiniteParticle(p)) c.require(false, *bad);
+  for (std::size_t i = 0; i < n; ++i) {
+    c.require(std::isfinite(p.radius[i]) && p.radius[i] > 0,
+              "particle " + std::to_string(i) + ": radius must be finite and > 0");
+    c.require(std::isfinite(p.mass[i]) && p.mass[i] > 0,
+              "particle " + std::to_string(i) + ": mass must be finite and > 0");
+  }
+}
+
+void checkDerivatives(const Checker& c, const SimulationState& s) {
+  const std::size_t n = s.particles.size();
+  c.sized(s.force, n, "forces");
+  c.sized(s.torque, s.frictional ? n : 0, "torques");
+  const bool gear = s.config.integrator == Integrator::Gear5;
+  for (const Derivatives* d : {&s.translation, &s.rotation}) {
+    const bool used = d == &s.translation || s.frictional;
+    const std::size_t expected = used ? n : 0;
+    c.sized(d->d2, expected, "accelerations");
+    for (const std::vector<Vec3>* higher : {&d->d3, &d->d4, &d->d5}) {
+      c.sized(*higher, gear ? expected : 0, "Gear derivatives");
+    }
+    for (const std::vector<Vec3>* v : {&d->d2, &d->d3, &d->d4, &d->d5}) {
+      for (const Vec3& x : *v) c.finite(x, "a derivative");
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    c.finite(s.force[i], "a force");
+  }
+  for (const Vec3& t : s.torque) c.finite(t, "a torque");
+}
+
+void checkWalls(const Checker& c, const SimulationState& s) {
+  for (const Wall& w : s.walls) {
+    c.finite(w.point, "a wall point");
+    c.finite(w.velocity, "a wall velocity");
+    c.finite(w.reaction, "a wall reaction");
+    c.finite(w.impulse, "a wall impulse");
+    c.require(w.normal.allFinite() && std::abs(w.normal.norm() - 1.0) < 1e-12,
+              "wall '" + w.name + "': normal is not a unit vector");
+  }
+}
+
+void checkHistory(const Checker& c, const std::vector<TangentialHistory>& history) {
+  for (const TangentialHistory& h : history) {
+    c.finite(h.stretch, "a tangential spring");
+    c.nonNegative(h.stiffness, "a tangential stiffness");
+  }
+}
+
+void checkNeighbours(const Checker& c, const SimulationState& s) {
+  const NeighbourList& list = s.neighbours;
+  const std::size_t n = s.particles.size();
+  const std::size_t pairs = list.first.size();
+  c.sized(list.second, pairs, "pair list (second)");
+  c.sized(list.history, s.frictional ? pairs : 0, "pair history");
+  for (std::size_t k = 0; k < pairs; ++k) {
+    c.require(list.first[k] < list.second[k] && list.second[k] < n,
+              "pair " + std::to_string(k) + " indexes particles out of range or out of order");
+    // Sorted by (first, second) without repeats: the history merge and the gather rely on it.
+    c.require(k == 0 || list.first[k - 1] < list.first[k] ||
+                  (list.first[k - 1] == list.first[k] && list.second[k - 1] < list.second[k]),
+              "pair list is not sorted");
+  }
+  checkHistory(c, list.history);
+  const std::size_t walls = s.walls.size();
+  c.sized(list.wallParticles, walls, "wall candidate lists");
+  c.sized(list.wallHistory, s.frictional ? walls : 0, "wall histories");
+  for (std::size_t w = 0; w < walls; ++w) {
+    const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      c.require(candidates[k] < n && (k == 0 || candidates[k - 1] < candidates[k]),
+                "wall candidate list out of range or not sorted");
+    }
+    if (!s.frictional) continue;
+    c.sized(list.wallHistory[w], candidates.size(), "wall history");
+    checkHistory(c, list.wallHistory[w]);
+  }
+  c.sized(list.referencePosition, list.valid ? n : list.referencePosition.size(),
+          "reference positions");
+  c.sized(list.referenceWallPoint, list.valid ? walls : list.referenceWallPoint.size(),
+          "reference wall points");
+  for (const Vec3& x : list.referencePosition) c.finite(x, "a reference position");
+  for (const Vec3& x : list.referenceWallPoint) c.finite(x, "a reference wall point");
+  c.nonNegative(list.skin, "skin");
+}
+
+void checkEnergy(const Checker& c, const SimulationState& s) {
+  const ContactPowers& w = s.powers;
+  for (double x : {w.elasticNormal, w.elasticTangential, w.normalDampingPower,
+                   w.tangentialDampingPower, w.tangentialPower, w.stiffnessWork, w.wallPower}) {
+    c.finite(x, "a contact power");
+  }
+  const EnergyAccumulators& e = s.energy;
+  for (double x : {e.dissipatedNormal, e.dissipatedTangential, e.tangentialWork, e.stiffnessWork,
+                   e.wallWork, e.initialPotential, e.initialTangentialElastic}) {
+    c.finite(x, "an energy account");
+  }
+}
+
+}  // namespace
+
+std::optional<std::string> firstNonFiniteParticle(const Particles& p) {
+  const std::size_t n = p.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const char* what = nullptr;
+    const char* unit = "";
+    Vec3 value;
+    if (!p.position[i].allFinite()) {
+      what = "position", unit = "m", value = p.position[i];
+    } else if (i < p.velocity.size() && !p.velocity[i].allFinite()) {
+      what = "velocity", unit = "m/s", value = p.velocity[i];
+    } else if (i < p.angularVelocity.size() && !p.angularVelocity[i].allFinite()) {
+      what = "angular velocity", unit = "rad/s", value = p.angularVelocity[i];
+    }
+    if (what) {
+      return "particle " + std::to_string(i) + ": " + what + " " + describe(value) + " " + unit +
+             " is not finite";
+    }
+  }
+  return std::nullopt;
+}
+
+void validateRestoredState(const SimulationState& state, const std::string& file) {
+  const Checker c(file);
+  checkConfig(c, state);
+  checkParticles(c, state);
+  checkDerivatives(c, state);
+  checkWalls(c, state);
+  checkNeighbours(c, state);
+  checkEnergy(c, state);
+}
+
+}  // namespace granular
