@@ -21,7 +21,7 @@ std::filesystem::path tempFile(const char* name) {
 SimulationConfig frictionalGear() {
   SimulationConfig cfg;
   cfg.material.friction = 0.3;
-  cfg.timeStep = 2e-4;
+  cfg.timeStep = 1.5e-4;
   return cfg;
 }
 
@@ -89,7 +89,7 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
 TEST(Checkpoint, CallersDataTravelsWithTheState) {
   SimulationConfig cfg;  // frictionless, velocity Verlet: no rotations, no springs
   cfg.integrator = Integrator::VelocityVerlet;
-  cfg.timeStep = 2e-4;
+  cfg.timeStep = 1.5e-4;
   Simulation sim = fallingGrid(3, 3, 2, cfg, 0.3);
   sim.run(300);
   const auto file = tempFile("appdata.ckpt");

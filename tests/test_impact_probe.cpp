@@ -70,7 +70,7 @@ TEST(ImpactProbe, ClosedFormOnlyWhereTheoryHasOne) {
 
 TEST(ImpactProbe, TouchFallsInTheThirdStepAtTheAskedPhase) {
   PairImpactSpec spec = hookeSpec();
-  spec.timeStep = predictPairImpact(spec)->forceDuration / 20;
+  spec.timeStep = predictPairImpact(spec)->forceDuration / 60;
   auto overlap = [](const Simulation& s) {
     const Particles& p = s.particles();
     return p.radius[0] + p.radius[1] - (p.position[1] - p.position[0]).norm();
@@ -114,8 +114,8 @@ TEST(ImpactProbe, UndampedHertzConvergesAtLeastAtSecondOrder) {
   // F = K h^(3/2) is continuous with a continuous first derivative at first touch, so the
   // second-order velocity Verlet keeps its order; Gear keeps at least that much.
   for (Integrator i : kBoth) {
-    const WorstErrors coarse = worstErrors(hertzSpec(), i, 20);
-    const WorstErrors fine = worstErrors(hertzSpec(), i, 80);
+    const WorstErrors coarse = worstErrors(hertzSpec(), i, 60);
+    const WorstErrors fine = worstErrors(hertzSpec(), i, 240);
     const double pDuration = order(coarse.duration, fine.duration, 4.0);
     const double pRestitution = order(coarse.restitution, fine.restitution, 4.0);
     EXPECT_GT(pDuration, 1.7) << name(i);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -264,10 +265,16 @@ TEST_F(SceneLoader, TimeStepLimitIsTheEngines) {
   const auto at = message.find(tag);
   ASSERT_NE(at, std::string::npos) << message;
   const double limit = std::stod(message.substr(at + tag.size()));
-  const std::string below = "time_step = " + std::to_string(0.999 * limit);
+  auto exact = [](double x) {
+    std::ostringstream o;
+    o.precision(17);
+    o << x;
+    return o.str();
+  };
+  const std::string below = "time_step = " + exact(0.999 * limit);
   const Scene s = loadScene(write("ok.toml", replaced(kMinimal, "time_step = 1e-4", below)));
   EXPECT_NO_THROW(buildSimulation(s));
-  const std::string above = "time_step = " + std::to_string(1.001 * limit);
+  const std::string above = "time_step = " + exact(1.001 * limit);
   EXPECT_THROW(loadScene(write("bad.toml", replaced(kMinimal, "time_step = 1e-4", above))),
                SceneError);
 }

@@ -16,7 +16,7 @@ namespace {
 SimulationConfig frictional(Integrator integrator) {
   SimulationConfig cfg;
   cfg.material.friction = 0.3;
-  cfg.timeStep = 2e-4;
+  cfg.timeStep = 1.5e-4;
   cfg.integrator = integrator;
   return cfg;
 }

@@ -242,7 +242,7 @@ TEST(Stage, ResumedFromACheckpointEndsAsIfItNeverStopped) {
     SimulationConfig c;
     c.material.friction = 0.3;
     c.material.normalDamping = 200.0;
-    c.timeStep = 2e-4;
+    c.timeStep = 1.5e-4;
     return c;
   }();
 

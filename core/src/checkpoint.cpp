@@ -86,6 +86,16 @@ class Reader {
   void operator()(T& value) {
     if constexpr (std::is_same_v<T, Vec3>) {
       for (int k = 0; k < 3; ++k) raw(value[k]);
+    } else if constexpr (std::is_same_v<T, bool>) {
+      // Only the bytes 0 and 1 are bools: copying any other byte into a bool and reading it is
+      // undefined behaviour (found by fuzz/fuzz_checkpoint.cpp).
+      unsigned char byte = 0;
+      raw(byte);
+      if (byte > 1) {
+        throw CheckpointError(file_ + ": corrupted checkpoint: a flag is " +
+                              std::to_string(byte) + ", not 0 or 1");
+      }
+      value = byte == 1;
     } else if constexpr (std::is_same_v<T, std::string>) {
       const std::size_t n = count(1);
       value.assign(take(n), n);

@@ -49,8 +49,9 @@
 ///
 /// Particles are checked as the builder will place them: each must lie inside the box, the rows
 /// of a CSV file must not overlap, and the time step must be below the engine's limit
-/// (kMaxStepFraction of the stiffest contact's duration). The loader does these checks so that
-/// the message names the file, the key and the CSV line; the builder and the engine check again.
+/// (maxStableStep: a fraction of the stiffest contact's duration that depends on the integrator).
+/// The loader does these checks so that the message names the file, the key and the CSV line; the
+/// builder and the engine check again.
 ///
 /// Sections: 1. material; 2. simulation; 3. box; 4. particles; 5. stages; 6. output;
 /// 7. time step; 8. loadScene.
@@ -440,12 +441,6 @@ double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Ve
 
 // 7. Time step ------------------------------------------------------------------------------------
 
-std::string sixDigits(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", x);
-  return buffer;
-}
-
 /// A reader of `key`'s table, or of the root when the table is absent (a default is at fault).
 TomlTableReader tableOrRoot(const TomlTableReader& root, std::string_view key,
                             const std::string& file) {
@@ -474,17 +469,11 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
   } catch (const ConfigError& e) {
     tableOrRoot(root, "material", file).fail("normal_damping", e.what());
   }
-  const double dt = scene.simulation.timeStep;
-  const double limit = kMaxStepFraction * scale.duration;
-  if (dt > limit) {
+  try {
+    requireStableStep(scene.simulation.timeStep, scale, scene.simulation.integrator);
+  } catch (const ConfigError& e) {
     const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
-    simulation.fail("time_step",
-                    "above the stable limit " + sixDigits(limit) +
-                        " s = 1/10 of the contact duration " + sixDigits(scale.duration) +
-                        " s of the stiffest contact (radius " + sixDigits(scale.radius) + " m " +
-                        (scale.againstWall ? "against a wall" : "against an equal particle") +
-                        "); use at most " + sixDigits(limit) +
-                        " s (1/50 to 1/20 of the duration is usual)");
+    simulation.fail("time_step", e.what());
   }
 }
 

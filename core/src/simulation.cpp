@@ -29,19 +29,6 @@ std::string str(double x) {
   return o.str();
 }
 
-/// Refuses a time step above kMaxStepFraction of the stiffest contact's duration.
-void requireStableStep(double dt, const ContactScale& scale, double rMin) {
-  const double limit = kMaxStepFraction * scale.duration;
-  if (dt > limit) {
-    std::ostringstream msg;
-    msg << "time step " << dt << " s is above the limit " << limit << " s = " << kMaxStepFraction
-        << " x the contact duration " << scale.duration << " s of the stiffest contact (radius "
-        << rMin << " m " << (scale.againstWall ? "against a wall" : "against an equal particle")
-        << "); use at most " << limit << " s (1/50 to 1/20 of the duration is usual)";
-    throw ConfigError(msg.str());
-  }
-}
-
 /// Stops the run at the step that broke the state (design: never lie quietly).
 [[noreturn]] void reportBrokenState(const SimulationState& s) {
   const std::optional<std::string> what = firstNonFiniteParticle(s.particles);
@@ -95,6 +82,29 @@ void validate(const SimulationConfig& cfg, const Particles& p, const std::vector
 
 }  // namespace
 
+double maxStableStep(const ContactScale& scale, Integrator integrator) {
+  const double fraction =
+      integrator == Integrator::Gear5 ? kMaxStepFractionGear5 : kMaxStepFractionVerlet;
+  return fraction * scale.duration;
+}
+
+void requireStableStep(double dt, const ContactScale& scale, Integrator integrator) {
+  const double limit = maxStableStep(scale, integrator);
+  if (!(dt <= limit)) {
+    const bool gear = integrator == Integrator::Gear5;
+    std::ostringstream msg;
+    msg << "time step " << dt << " s is above the stable limit " << limit << " s of "
+        << (gear ? "gear5" : "velocity Verlet") << " = 1/" << (gear ? 50 : 10)
+        << " of the contact duration " << scale.duration << " s of the stiffest contact (radius "
+        << scale.radius << " m "
+        << (scale.againstWall ? "against a wall" : "against an equal particle") << "); use at most "
+        << limit << " s"
+        << (gear ? " (Gear gains energy in a damped bed above it), or velocity Verlet up to 1/10"
+                 : " (1/50 to 1/20 of the duration is usual)");
+    throw ConfigError(msg.str());
+  }
+}
+
 // ---- Set-up -------------------------------------------------------------------------------
 
 Simulation::Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config)
@@ -111,7 +121,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
 
   // Refuse a step the contacts cannot resolve (design §2: report the contact duration).
   s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
-  requireStableStep(config.timeStep, s.contactScale, rMin);
+  requireStableStep(config.timeStep, s.contactScale, config.integrator);
   s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
 
   const bool gear = config.integrator == Integrator::Gear5;
@@ -282,8 +292,7 @@ std::size_t Simulation::addWall(const Wall& wall) {
 
 void Simulation::setTimeStep(double dt) {
   require(std::isfinite(dt) && dt > 0, "time step = " + str(dt) + " s: must be > 0");
-  const std::vector<double>& r = state_->particles.radius;
-  requireStableStep(dt, state_->contactScale, *std::min_element(r.begin(), r.end()));
+  requireStableStep(dt, state_->contactScale, state_->config.integrator);
   // The clock counts steps from its origin: move the origin here so the time runs on unbroken.
   state_->timeOrigin = time();
   state_->stepsSinceOrigin = 0;
@@ -293,6 +302,7 @@ void Simulation::setTimeStep(double dt) {
 void Simulation::setIntegrator(Integrator integrator) {
   SimulationState& s = *state_;
   if (integrator == s.config.integrator) return;
+  requireStableStep(s.config.timeStep, s.contactScale, integrator);
   const std::size_t n = s.particles.size();
   for (Derivatives* d : {&s.translation, &s.rotation}) {
     if (d->d2.empty()) continue;  // no rotations on the frictionless path

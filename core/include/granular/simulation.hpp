@@ -21,12 +21,19 @@ enum class Integrator {
   VelocityVerlet,  ///< velocity Verlet, forces evaluated with the predicted velocity
 };
 
+/// The largest time step the engine accepts for this integrator and stiffest contact [s]:
+/// kMaxStepFractionVerlet or kMaxStepFractionGear5 of the contact duration.
+double maxStableStep(const ContactScale& scale, Integrator integrator);
+/// Throws ConfigError, naming the limit, the contact duration and the integrator, when `dt` is
+/// above maxStableStep (the engine's own check; the scene loader uses it too).
+void requireStableStep(double dt, const ContactScale& scale, Integrator integrator);
+
 /// Everything the engine needs besides the particles and walls.
 struct SimulationConfig {
   Material material;                     ///< particle and wall material
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< gravitational acceleration g [m/s²]
   Integrator integrator = Integrator::Gear5;
-  double timeStep = 1e-4;    ///< Δt [s]; refused above kMaxStepFraction·contact duration
+  double timeStep = 1e-4;    ///< Δt [s]; refused above maxStableStep()
   double skin = 0.0;         ///< neighbour-list skin [m]; 0 picks 0.3·smallest radius
   double impactSpeed = 1.0;  ///< largest expected approach speed [m/s] (Hertz step check only)
   /// Threads for the force pass and the integrator [-]; 0 = OpenMP's default (OMP_NUM_THREADS
@@ -123,7 +130,8 @@ class Simulation {
   /// Continues with another integrator from the current state (e.g. to compare Gear and Verlet
   /// from one restored checkpoint, contact history included). Gear → Verlet keeps the
   /// acceleration, all Verlet needs; Verlet → Gear starts Gear's higher derivatives at zero, as
-  /// a new simulation does.
+  /// a new simulation does. Refused (ConfigError) if the current step is above the new
+  /// integrator's limit.
   void setIntegrator(Integrator integrator);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
