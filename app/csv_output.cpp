@@ -50,6 +50,24 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
   }
   out_ << "\n" << std::flush;
   check(out_, path_);
+  bytes_ = std::uint64_t(out_.tellp());
+}
+
+TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
+                                   std::vector<std::string> walls, std::uint64_t bytes)
+    : path_(path), walls_(std::move(walls)) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size < bytes) {
+    throw IoError(path.string() + ": cannot resume the time series: it has " +
+                  (ec ? std::string("gone") : std::to_string(size) + " bytes") +
+                  ", the checkpoint " + "expects at least " + std::to_string(bytes));
+  }
+  std::filesystem::resize_file(path, bytes, ec);
+  if (ec) throw IoError(path.string() + ": cannot truncate: " + ec.message());
+  out_.open(path, std::ios::app | std::ios::binary);
+  check(out_, path_);
+  bytes_ = bytes;
 }
 
 void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
@@ -74,7 +92,9 @@ void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
     row << ',' << csvNumber(r.x()) << ',' << csvNumber(r.y()) << ',' << csvNumber(r.z());
   }
   row << '\n';
-  out_ << row.str() << std::flush;
+  const std::string text = row.str();
+  out_ << text << std::flush;
+  bytes_ += text.size();
   check(out_, path_);
 }
 

@@ -2,6 +2,7 @@
 /// CSV files written by `granular run`: the time series, particle states (snapshots and the final
 /// state) and helpers shared by them. Numbers are written in the shortest form that reads back to
 /// the same double, so no precision is lost.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -28,12 +29,19 @@ class TimeSeriesWriter {
   /// `walls` fixes the reaction columns; a wall that does not exist yet (the top wall before
   /// it is placed) gets empty cells.
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls);
+  /// Continues a file written up to `bytes` (a resumed run): rows after that are dropped, so the
+  /// file ends as if the run had never stopped. IoError if the file is shorter.
+  TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
+                   std::uint64_t bytes);
   void write(const std::string& stage, const Simulation& sim);
+  /// Bytes in the file so far (every row is flushed as it is written) [B].
+  std::uint64_t bytes() const { return bytes_; }
 
  private:
   std::filesystem::path path_;
   std::ofstream out_;
   std::vector<std::string> walls_;
+  std::uint64_t bytes_ = 0;
 };
 
 /// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into

@@ -1,10 +1,11 @@
 /// granular: the command line. Subcommands:
-///   granular run SCENE.toml [--out DIR] [--quiet]
+///   granular run SCENE.toml [--out DIR] [--quiet] [--checkpoint-every S] [--resume]
 ///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
 ///   granular figures RUN_DIR
 ///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]
 ///   granular bench-accuracy [--run DIR] [--out DIR] [--scenes DIR] [--quick]
-/// Exit status: 0 done, 1 I/O error, 2 invalid scene or configuration (or bad arguments).
+/// Exit status: 0 done, 1 I/O error, 2 invalid scene or configuration (or bad arguments),
+/// 3 the simulation's state broke (NaN or infinity; `run` names the step and the particle).
 #include <CLI/CLI.hpp>
 
 #include "bench_accuracy_command.hpp"
@@ -24,6 +25,15 @@ int main(int argc, char** argv) {
       ->required();
   runCommand->add_option("-o,--out", run.outDir, "Output folder (default: runs/<scene stem>)");
   runCommand->add_flag("-q,--quiet", run.quiet, "No progress lines on stderr");
+  runCommand
+      ->add_option("--checkpoint-every", run.checkpointEvery,
+                   "Wall-clock seconds between checkpoints (OUT/checkpoint.bin, also written at "
+                   "each stage's end); 0: none")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  runCommand->add_flag("--resume", run.resume,
+                       "Continue from OUT/checkpoint.bin if it exists (bit for bit as if the run "
+                       "had never stopped); otherwise start from the beginning");
 
   granular::app::PaperOptions paper;
   paper.scenesDir = GRANULAR_SCENES_DIR;

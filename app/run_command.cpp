@@ -4,17 +4,22 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "csv_output.hpp"
+#include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
+#include "run_progress.hpp"
 
 namespace granular::app {
 
@@ -41,48 +46,162 @@ const char* reasonText(StageEndReason reason) {
 
 // 2. Running the stages ---------------------------------------------------------------------------
 
-struct StageReport {
-  std::string name;
-  StageResult result;
-  double wallSeconds = 0.0;
-};
-
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// The state hash as 16 hex digits: equal hashes mean bit-identical positions and velocities.
+std::string hexHash(std::uint64_t h) {
+  char buffer[24];
+  std::snprintf(buffer, sizeof buffer, "%016llx", static_cast<unsigned long long>(h));
+  return buffer;
+}
+
+/// GRANULAR_INJECT_NAN=STEP:PARTICLE (run_command.hpp), or nothing.
+std::optional<std::pair<std::uint64_t, std::size_t>> injectedFault() {
+  const char* text = std::getenv("GRANULAR_INJECT_NAN");
+  if (!text || !*text) return std::nullopt;
+  unsigned long long step = 0, particle = 0;
+  char tail = 0;
+  if (std::sscanf(text, "%llu:%llu%c", &step, &particle, &tail) != 2) {
+    throw ConfigError(std::string("GRANULAR_INJECT_NAN = '") + text + "': expected STEP:PARTICLE");
+  }
+  return std::pair{std::uint64_t(step), std::size_t(particle)};
+}
+
+/// Where a run starts: a fresh simulation, or the checkpoint of an interrupted one.
+struct Start {
+  Simulation sim;
+  RunProgress progress;
+  bool resumed = false;
+};
+
+Start startOrResume(const RunOptions& options, const Scene& scene, std::uint64_t fingerprint,
+                    const std::filesystem::path& checkpoint) {
+  if (options.resume && std::filesystem::exists(checkpoint)) {
+    CheckpointContents c = readCheckpointWithData(checkpoint, fingerprint);
+    RunProgress progress = decodeRunProgress(c.appData, checkpoint.string());
+    if (progress.stage > scene.stages.size()) {
+      throw CheckpointError(checkpoint.string() + ": names stage " +
+                            std::to_string(progress.stage + 1) + " of a scene with " +
+                            std::to_string(scene.stages.size()));
+    }
+    return {std::move(c.simulation), std::move(progress), true};
+  }
+  if (options.resume) {
+    std::cout << "no checkpoint " << checkpoint.string() << ": starting from the beginning\n";
+  }
+  return {buildSimulation(scene), RunProgress{}, false};
+}
+
 int runScene(const RunOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  if (!(options.checkpointEvery >= 0.0)) {
+    throw ConfigError("--checkpoint-every must be >= 0 seconds (0: no checkpoints)");
+  }
   const Scene scene = loadScene(options.scene);
-  Simulation sim = buildSimulation(scene);
+  const std::uint64_t fingerprint = fingerprintFile(options.scene);
+  const auto fault = injectedFault();
 
   const std::filesystem::path outDir = options.outDir.empty()
                                            ? std::filesystem::path("runs") / options.scene.stem()
                                            : options.outDir;
   std::filesystem::create_directories(outDir);
+  const std::filesystem::path checkpoint = outDir / "checkpoint.bin";
+  Start start = startOrResume(options, scene, fingerprint, checkpoint);
+  Simulation& sim = start.sim;
+  RunProgress& progress = start.progress;
+  if (start.resumed) {
+    std::cout << "resuming " << checkpoint.string() << " at t = " << format("%.9g", sim.time())
+              << " s, step " << sim.stepCount() << ", stage "
+              << std::min(progress.stage + 1, scene.stages.size()) << " of " << scene.stages.size()
+              << "\n";
+  }
+  if (progress.stage == scene.stages.size()) {
+    std::cout << "the run in " << outDir.string() << " is already complete\n";
+    return 0;
+  }
   printHeader(std::cout, scene, sim, outDir);
 
-  TimeSeriesWriter series(outDir / "timeseries.csv", reactionWallNames(scene));
-  ProgressReporter progress(!options.quiet);
-  std::vector<StageReport> reports;
-  for (const StageSpec& stage : scene.stages) {
-    StageObserver observer;
-    observer.onSample = [&](const Simulation& s) { series.write(stage.name, s); };
-    observer.onSnapshot = [&](const Simulation& s, double time) {
-      writeParticleState(snapshotPath(outDir, stage.name, time), s.particles());
-    };
-    observer.onProgress = [&](const Simulation& s, const StageSpec& st) { progress.update(s, st); };
-    observer.progressSteps = 200;  // a clock read every 200 steps costs nothing measurable
+  const std::filesystem::path seriesPath = outDir / "timeseries.csv";
+  std::optional<TimeSeriesWriter> series;
+  if (start.resumed) {
+    series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes);
+  } else {
+    series.emplace(seriesPath, reactionWallNames(scene));
+  }
+  ProgressReporter reporter(!options.quiet);
 
-    const auto stageStart = std::chrono::steady_clock::now();
-    const StageResult result = runStage(sim, stage, scene.output, observer);
-    progress.finish();
-    reports.push_back({stage.name, result, secondsSince(stageStart)});
-    std::cout << "stage " << stage.name << ": " << reasonText(result.reason) << " after "
-              << format("%.6g", result.duration) << " s (" << result.steps << " steps, "
-              << format("%.1f", reports.back().wallSeconds) << " s wall-clock), KE "
-              << format("%.3e", sim.kineticEnergy()) << " J\n"
-              << std::flush;
+  // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
+  // stage's end. The last one written is the last good state if the run breaks.
+  auto lastWritten = std::chrono::steady_clock::now();
+  std::optional<std::pair<double, std::uint64_t>> lastGood;  // its time and step
+  auto save = [&](const Simulation& s) {
+    progress.seriesBytes = series->bytes();
+    writeCheckpoint(s, checkpoint, fingerprint, encodeRunProgress(progress));
+    lastWritten = std::chrono::steady_clock::now();
+    lastGood = std::pair{s.time(), s.stepCount()};
+  };
+
+  try {
+    for (std::size_t k = progress.stage; k < scene.stages.size(); ++k) {
+      const StageSpec& stage = scene.stages[k];
+      StageObserver observer;
+      observer.onSample = [&](const Simulation& s) { series->write(stage.name, s); };
+      observer.onSnapshot = [&](const Simulation& s, double time) {
+        writeParticleState(snapshotPath(outDir, stage.name, time), s.particles());
+      };
+      observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
+        reporter.update(s, st);
+      };
+      observer.progressSteps = 200;  // a clock read every 200 steps costs nothing measurable
+      // Checkpoints are offered every 100 steps; an injected fault needs every step.
+      observer.checkpointSteps = fault ? 1 : 100;
+      observer.onCheckpoint = [&](const Simulation& s, const StageProgress& p) {
+        if (p.steps % 100 == 0 && options.checkpointEvery > 0 &&
+            secondsSince(lastWritten) >= options.checkpointEvery) {
+          progress.inStage = p;
+          save(s);
+        }
+        if (fault && s.stepCount() == fault->first && fault->second < s.particles().size()) {
+          auto& v = const_cast<Particles&>(s.particles()).velocity[fault->second];
+          v.x() = std::numeric_limits<double>::quiet_NaN();
+        }
+      };
+      // A stage that had begun continues where its checkpoint left it; one that had not
+      // (steps = 0: checkpoints inside a stage follow at least one step) starts with its set-up.
+      const StageProgress resumeAt = progress.inStage;
+      const bool continuing = resumeAt.steps > 0;
+      const auto stageStart = std::chrono::steady_clock::now();
+      const StageResult result =
+          runStage(sim, stage, scene.output, observer, continuing ? &resumeAt : nullptr);
+      reporter.finish();
+      progress.finished.push_back({result, secondsSince(stageStart)});
+      progress.stage = k + 1;
+      progress.inStage = StageProgress{};
+      if (options.checkpointEvery > 0) save(sim);
+      std::cout << "stage " << stage.name << ": " << reasonText(result.reason) << " after "
+                << format("%.6g", result.duration) << " s (" << result.steps << " steps, "
+                << format("%.1f", progress.finished.back().wallSeconds) << " s wall-clock), KE "
+                << format("%.3e", sim.kineticEnergy()) << " J\n"
+                << std::flush;
+    }
+  } catch (const NumericalError& e) {
+    reporter.finish();
+    const std::filesystem::path broken = outDir / "failed_state.csv";
+    writeParticleState(broken, sim.particles());
+    std::cerr << "error: " << e.what() << "\n";
+    if (lastGood) {
+      std::cerr << "the last good state is " << checkpoint.string()
+                << " (t = " << format("%.9g", lastGood->first) << " s, step " << lastGood->second
+                << "): remove the cause and continue it with --resume; the broken state is in "
+                << broken.string() << "\n";
+    } else {
+      std::cerr
+          << "no checkpoint was written in this run (--checkpoint-every); the broken state is in "
+          << broken.string() << "\n";
+    }
+    return kExitNumericalFailure;
   }
   writeParticleState(outDir / "final_state.csv", sim.particles());
 
@@ -93,13 +212,16 @@ int runScene(const RunOptions& options) {
           << "particles: " << sim.particles().size() << "\n"
           << "total mass: " << format("%.6g", totalMass(sim.particles())) << " kg\n"
           << "stages:\n";
-  for (const StageReport& r : reports) {
-    summary << "  " << r.name << ": ended by " << reasonText(r.result.reason) << "; "
+  for (std::size_t k = 0; k < progress.finished.size(); ++k) {
+    const FinishedStage& r = progress.finished[k];
+    summary << "  " << scene.stages[k].name << ": ended by " << reasonText(r.result.reason) << "; "
             << format("%.6g", r.result.duration) << " s simulated, " << r.result.steps << " steps, "
             << format("%.2f", r.wallSeconds) << " s wall-clock\n";
   }
   summary << "final kinetic energy: " << format("%.6e", sim.kineticEnergy()) << " J\n"
-          << "wall-clock: " << format("%.2f", secondsSince(started)) << " s\n";
+          << "state hash: " << hexHash(sim.stateHash()) << "\n"
+          << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"
+          << (start.resumed ? " (since the resume)" : "") << "\n";
   writeTextFile(outDir / "summary.txt", summary.str());
   std::cout << "wrote " << (outDir / "timeseries.csv").string()
             << ", final_state.csv, summary.txt\n";

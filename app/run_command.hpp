@@ -9,10 +9,21 @@ struct RunOptions {
   std::filesystem::path scene;   ///< the scene file
   std::filesystem::path outDir;  ///< output folder; empty means runs/<scene stem>
   bool quiet = false;            ///< no progress lines
+  /// Wall-clock seconds between checkpoints (<outDir>/checkpoint.bin); 0: none [s].
+  double checkpointEvery = 300.0;
+  /// Continue from <outDir>/checkpoint.bin when it exists (else start from the beginning).
+  bool resume = false;
 };
 
+/// Exit status of a run whose state stopped being finite (NaN or infinity).
+inline constexpr int kExitNumericalFailure = 3;
+
 /// Runs the scene. Returns the exit status: 0 done, 1 I/O error, 2 invalid scene or
-/// configuration. Messages go to stderr; the header and stage results to stdout.
+/// configuration, 3 the state broke (NaN/inf; the last checkpoint is the last good state).
+/// Messages go to stderr; the header and stage results to stdout.
+///
+/// Fault injection for tests: GRANULAR_INJECT_NAN=STEP:PARTICLE sets that particle's velocity to
+/// NaN after that step (total step count), as a bug or a cosmic ray would.
 int runCommand(const RunOptions& options);
 
 }  // namespace granular::app

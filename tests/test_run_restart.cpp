@@ -1,0 +1,195 @@
+/// `granular run` killed and restarted: the real binary is killed with SIGKILL (no chance to
+/// clean up) while it writes periodic checkpoints, restarted with --resume, killed again, and
+/// resumed to the end; its outputs must equal, byte for byte, those of a run never interrupted.
+/// And a NaN injected into the state stops the run at that step, naming the particle, with the
+/// last good state in the checkpoint, from which the run resumes to the same end.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "granular/checkpoint.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+const fs::path kScene = fs::path(GRANULAR_SOURCE_DIR) / "tests/scenes/restart.toml";
+
+std::string slurp(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// A started `granular run` with stdout and stderr in files of `out`'s parent.
+class Child {
+ public:
+  Child(const fs::path& out, std::vector<std::string> extra, std::vector<std::string> env = {}) {
+    std::vector<std::string> args = {GRANULAR_EXECUTABLE, "run", kScene.string(), "--out",
+                                     out.string(),        "-q"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    for (char** e = environ; *e; ++e) env.emplace_back(*e);
+    std::vector<char*> envp;
+    for (std::string& e : env) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    log_ = out.string() + ".stderr";
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), envp.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) pid_ = -1;
+  }
+  bool started() const { return pid_ > 0; }
+  /// Waits for the end; the exit status, or -signal.
+  int wait() {
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  }
+  bool running() {
+    int status = 0;
+    return waitpid(pid_, &status, WNOHANG) == 0;
+  }
+  void kill() { ::kill(pid_, SIGKILL); }
+  std::string stderrText() const { return slurp(log_); }
+
+ private:
+  pid_t pid_ = -1;
+  std::string log_;
+};
+
+/// Waits until `file` has been replaced `times` times since the call (its contents change), or
+/// the run ends; true if it did.
+bool waitForNewCheckpoints(Child& run, const fs::path& file, int times) {
+  std::string seen = fs::exists(file) ? slurp(file) : std::string();
+  for (int changes = 0; changes < times;) {
+    if (!run.running()) return false;
+    std::this_thread::sleep_for(5ms);
+    if (!fs::exists(file)) continue;
+    std::string now = slurp(file);
+    if (now != seen) {
+      seen = std::move(now);
+      ++changes;
+    }
+  }
+  return true;
+}
+
+/// Every output file a finished run leaves, compared by content; summary.txt is compared by its
+/// state hash line (it also holds wall-clock times).
+void expectSameOutputs(const fs::path& reference, const fs::path& resumed) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(reference)) {
+    const std::string name = entry.path().filename().string();
+    if (name.ends_with(".csv")) names.push_back(name);
+  }
+  ASSERT_GE(names.size(), 4u);  // time series, final state, two snapshots
+  for (const std::string& name : names) {
+    ASSERT_TRUE(fs::exists(resumed / name)) << name;
+    EXPECT_TRUE(slurp(reference / name) == slurp(resumed / name)) << name << " differs";
+  }
+  auto hashLine = [](const fs::path& dir) {
+    std::istringstream in(slurp(dir / "summary.txt"));
+    for (std::string line; std::getline(in, line);) {
+      if (line.starts_with("state hash: ")) return line;
+    }
+    return std::string("(no state hash)");
+  };
+  EXPECT_EQ(hashLine(reference), hashLine(resumed));
+}
+
+fs::path freshDir(const char* name) {
+  const fs::path dir = fs::temp_directory_path() / (std::string("granular_restart_") + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST(RunRestart, KilledTwiceAndResumedEndsBitForBitLikeAnUninterruptedRun) {
+  const fs::path reference = freshDir("reference");
+  Child whole(reference, {"--checkpoint-every", "0"});
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  const fs::path out = freshDir("killed");
+  const fs::path checkpoint = out / "checkpoint.bin";
+  // Checkpoint as often as the run offers (every 100 steps); kill after the first, then again
+  // after two more, so that the second life itself starts from a checkpoint.
+  const std::vector<std::string> often = {"--checkpoint-every", "1e-9", "--resume"};
+  int kills = 0;
+  for (int wanted : {1, 2}) {
+    Child life(out, often);
+    ASSERT_TRUE(life.started());
+    if (!waitForNewCheckpoints(life, checkpoint, wanted)) {
+      ADD_FAILURE() << "the run ended before it could be killed; make the scene longer\n"
+                    << life.stderrText();
+      return;
+    }
+    life.kill();
+    ASSERT_EQ(life.wait(), -SIGKILL);
+    ++kills;
+    EXPECT_FALSE(fs::exists(out / "summary.txt")) << "killed after it had finished";
+    // What a kill leaves behind is always a whole checkpoint, never a torn one.
+    EXPECT_NO_THROW(granular::readCheckpoint(checkpoint)) << "after kill " << kills;
+  }
+  Child last(out, often);
+  ASSERT_TRUE(last.started());
+  ASSERT_EQ(last.wait(), 0) << last.stderrText();
+  EXPECT_EQ(kills, 2);
+  expectSameOutputs(reference, out);
+}
+
+TEST(RunRestart, InjectedNaNStopsAtItsStepAndTheLastGoodStateResumes) {
+  const fs::path reference = freshDir("nan_reference");
+  Child whole(reference, {"--checkpoint-every", "0"});
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  const fs::path out = freshDir("nan");
+  const std::uint64_t badStep = 3456;  // inside the settling stage
+  Child broken(out, {"--checkpoint-every", "1e-9"},
+               {"GRANULAR_INJECT_NAN=" + std::to_string(badStep) + ":17"});
+  ASSERT_TRUE(broken.started());
+  EXPECT_EQ(broken.wait(), 3);
+  const std::string message = broken.stderrText();
+  // Detected within one step: the step after the injection, naming the particle.
+  EXPECT_NE(message.find("step " + std::to_string(badStep + 1) + " "), std::string::npos)
+      << message;
+  // The particle is named with the first of its quantities that broke (the velocity's NaN
+  // reaches the position in the same step).
+  EXPECT_NE(message.find("particle 17: "), std::string::npos) << message;
+  EXPECT_NE(message.find("is not finite"), std::string::npos) << message;
+  EXPECT_NE(message.find("the last good state is"), std::string::npos) << message;
+  EXPECT_TRUE(fs::exists(out / "failed_state.csv"));
+  // The checkpoint holds a state from before the fault, whole and finite.
+  const granular::Simulation good = granular::readCheckpoint(out / "checkpoint.bin");
+  EXPECT_LE(good.stepCount(), badStep);
+  EXPECT_GT(good.stepCount(), badStep - 200);  // checkpoints every 100 steps
+
+  Child resumed(out, {"--checkpoint-every", "0", "--resume"});
+  ASSERT_TRUE(resumed.started());
+  ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
+  expectSameOutputs(reference, out);
+}
