@@ -3,12 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
-#include <tuple>
-
-#include <sstream>
-
 #include <cmath>
+#include <limits>
+#include <sstream>
+#include <tuple>
 
 #include "granular/error.hpp"
 #include "granular/packings.hpp"
@@ -187,4 +185,36 @@ TEST(Simulation, MemoryUseFollowsTheModel) {
   EXPECT_EQ(frictionless.total(), frictionless.particles + frictionless.integrator +
                                       frictionless.neighbours + frictionless.history +
                                       frictionless.contactIndex + frictionless.scratch);
+}
+
+// Hard case 9 in the engine: a NaN put into the state between two steps is caught by the end
+// of the next step (the integrators check every position and velocity they write), and the
+// error names that step and the particle, for both integrators and both paths.
+TEST(Simulation, NaNInTheStateIsCaughtWithinOneStepNamingStepAndParticle) {
+  for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    for (double friction : {0.0, 0.3}) {
+      SimulationConfig cfg;
+      cfg.integrator = integrator;
+      cfg.material.friction = friction;
+      cfg.timeStep = 1e-4;
+      Simulation sim = fallingGrid(3, 3, 2, cfg, 0.2);
+      sim.run(50);
+      // Particle 7 in free flight or in contact, its angular velocity on the frictional path.
+      Particles& p = const_cast<Particles&>(sim.particles());
+      if (friction > 0) {
+        p.angularVelocity[7].z() = std::numeric_limits<double>::quiet_NaN();
+      } else {
+        p.velocity[7].x() = std::numeric_limits<double>::infinity();
+      }
+      try {
+        sim.step();
+        ADD_FAILURE() << "a broken state stepped on silently";
+      } catch (const NumericalError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("step 51 "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("particle 7: "), std::string::npos) << msg;
+        EXPECT_NE(msg.find("not finite"), std::string::npos) << msg;
+      }
+    }
+  }
 }
