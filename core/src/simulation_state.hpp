@@ -128,6 +128,7 @@ struct SimulationState {
   std::uint64_t steps = 0;
   bool frictional = false;
   bool rebuildEveryStep = false;
+  bool stepLimitDisabled = false;  ///< disableStepLimitForStudies (not checkpointed)
   ContactScale contactScale;
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle

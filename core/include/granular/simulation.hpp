@@ -133,6 +133,9 @@ class Simulation {
   /// a new simulation does. Refused (ConfigError) if the current step is above the new
   /// integrator's limit.
   void setIntegrator(Integrator integrator);
+  /// For stability studies only (bench/bench_gear_stability.cpp): with `off`, time steps above
+  /// maxStableStep are accepted from now on; results may then be garbage. Not checkpointed.
+  void disableStepLimitForStudies(bool off);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
   /// Sets a wall's prescribed velocity [m/s].
