@@ -270,8 +270,10 @@ void checkNoOverlap(const TomlTableReader& r, const std::filesystem::path& path,
   double maxRadius = 0.0;
   for (const CsvParticle& p : rows) maxRadius = std::max(maxRadius, p.radius);
   using Cell = std::array<long long, 3>;
+  // Clamped before the cast: a row 1e54 m away is legal above an open box and must not
+  // overflow the integer; rows sharing a clamped cell are still compared by their distance.
   auto cellOf = [&](const Vec3& x) {
-    const Vec3 c = (x / (2.0 * maxRadius)).array().floor();
+    const Vec3 c = (x / (2.0 * maxRadius)).array().floor().cwiseMax(-0x1p60).cwiseMin(0x1p60);
     return Cell{(long long)c.x(), (long long)c.y(), (long long)c.z()};
   };
   std::map<Cell, std::vector<std::size_t>> cells;

@@ -208,7 +208,10 @@ double TomlTableReader::checkedNumber(const std::string& name, const toml::node&
     failAt(where, name + " = " + describeValue(node) + ": expected a number, got " +
                       std::string(typeName(node)));
   }
-  const double x = node.value<double>().value();
+  // toml++ gives no double for an integer a double cannot hold exactly (above 2^53): take the
+  // nearest one, which is what the number means at a double's precision.
+  const double x = node.is_integer() ? static_cast<double>(node.as_integer()->get())
+                                     : node.as_floating_point()->get();
   if (!std::isfinite(x)) {
     // "must be > 0" becomes "must be finite and > 0".
     const std::string bound = range.describe().substr(std::string_view("must be ").size());
