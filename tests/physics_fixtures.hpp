@@ -61,7 +61,9 @@ inline Simulation fallingGrid(int nx, int ny, int nz, const SimulationConfig& cf
     for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const Vec3 x((i + 0.5) * cell, (j + 0.5) * cell, (k + 0.5) * cell);
-        const Vec3 v = speed * Vec3(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+        // One draw per statement (argument order is unspecified); z, y, x as GCC evaluated it.
+        const double vz = uniform() - 0.5, vy = uniform() - 0.5, vx = uniform() - 0.5;
+        const Vec3 v = speed * Vec3(vx, vy, vz);
         p.add(x, 0.03 + 0.005 * uniform(), cfg.material.density, v);
       }
     }

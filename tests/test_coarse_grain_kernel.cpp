@@ -21,7 +21,9 @@ double uniform(std::mt19937_64& rng, double a, double b) {
 }
 
 Vec3 randomVector(std::mt19937_64& rng, double scale) {
-  return scale * Vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+  // One draw per statement (argument order is unspecified); z, y, x as GCC evaluated it.
+  const double z = uniform(rng, -1, 1), y = uniform(rng, -1, 1), x = uniform(rng, -1, 1);
+  return scale * Vec3(x, y, z);
 }
 
 /// K = 105/(16π c³) [1/m³], the kernel's value at its centre.

@@ -51,8 +51,9 @@ TEST(Principal, OrderedOrthonormalRightHandedAndExact) {
               1e-12 * sym.norm());
     // σ1 is the minimum of the Rayleigh quotient: no unit vector is more compressed.
     for (int probe = 0; probe < 5; ++probe) {
-      const Vec3 n =
-          Vec3(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)).normalized();
+      // One draw per statement: argument order is unspecified.
+      const double z = uniform(rng, -1, 1), y = uniform(rng, -1, 1), x = uniform(rng, -1, 1);
+      const Vec3 n = Vec3(x, y, z).normalized();
       EXPECT_GE(n.dot(sym * n), p.values[0] - 1e-9);
     }
   }

@@ -20,8 +20,13 @@ double unitInterval(std::mt19937_64& rng) {
 /// A point uniform in the unit ball, by rejection from the cube [-1, 1)³ (accepts ~52 %).
 Vec3 unitBall(std::mt19937_64& rng) {
   for (;;) {
-    const Vec3 p(2.0 * unitInterval(rng) - 1.0, 2.0 * unitInterval(rng) - 1.0,
-                 2.0 * unitInterval(rng) - 1.0);
+    // Drawn one statement at a time: the order in which a call's arguments are evaluated is
+    // unspecified (GCC goes right to left, clang left to right), and the seed must give the
+    // same packing with every compiler. z, y, x keeps the values GCC has always given.
+    const double z = 2.0 * unitInterval(rng) - 1.0;
+    const double y = 2.0 * unitInterval(rng) - 1.0;
+    const double x = 2.0 * unitInterval(rng) - 1.0;
+    const Vec3 p(x, y, z);
     if (p.squaredNorm() <= 1.0) return p;
   }
 }
