@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages granular needs to build, test, benchmark and render (design §5).
+# Installs the Debian 12 packages granular needs to build, test, benchmark and render (design §5),
+# and to run the sanitizer and fuzzing CI (scripts/ci-sanitizers.sh).
 #
 # Idempotent: asks dpkg-query which packages are missing and only then runs `apt-get update` once
 # and one `apt-get install` of the missing ones; with everything present it changes nothing.
@@ -20,6 +21,10 @@ packages=(
   libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core
   # ParaView files (VTK's data model and XML writers; ~350 MB on a fresh machine)
   libvtk9-dev
+  # sanitizer and fuzzing builds (scripts/ci-sanitizers.sh): clang; its sanitizer and libFuzzer
+  # runtimes (libclang-rt-14-dev, only recommended by clang, so not pulled in by
+  # --no-install-recommends); LLVM's OpenMP runtime with the Archer tool for ThreadSanitizer
+  clang libclang-rt-14-dev libomp-14-dev
 )
 
 dry_run=0
@@ -27,7 +32,7 @@ for arg in "$@"; do
   case "$arg" in
     --dry-run) dry_run=1 ;;
     -h | --help)
-      sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
+      sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
       exit 0
       ;;
     *)

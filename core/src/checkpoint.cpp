@@ -89,11 +89,12 @@ class Reader {
     } else if constexpr (std::is_same_v<T, bool>) {
       // Only the bytes 0 and 1 are bools: copying any other byte into a bool and reading it is
       // undefined behaviour (found by fuzz/fuzz_checkpoint.cpp).
+      static_assert(sizeof(bool) == 1, "the writer stores a bool as one byte");
       unsigned char byte = 0;
       raw(byte);
       if (byte > 1) {
-        throw CheckpointError(file_ + ": corrupted checkpoint: a flag is " +
-                              std::to_string(byte) + ", not 0 or 1");
+        throw CheckpointError(file_ + ": corrupted checkpoint: a flag is " + std::to_string(byte) +
+                              ", not 0 or 1");
       }
       value = byte == 1;
     } else if constexpr (std::is_same_v<T, std::string>) {

@@ -57,7 +57,8 @@ BoxContactSums boxContactSums(const Simulation& sim) {
   const Particles& p = sim.particles();
   BoxContactSums sums;
   Mat3 sum = Mat3::Zero();
-  sim.forEachContact([&](const ContactView& c) {
+  // `lower` is captured by copy explicitly: clang before 16 cannot capture a structured binding.
+  sim.forEachContact([&, lower = lower](const ContactView& c) {
     sum += c.force * (c.point - p.position[c.particle]).transpose();
     if (c.other < 0 && side[static_cast<std::size_t>(-c.other - 1)]) {
       sums.sideFrictionMoment += c.force.z() * (c.point.z() - lower.z());
