@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <random>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
+#include "grid_sampling.hpp"
 #include "number_format.hpp"
 #include "particle_csv.hpp"
 
@@ -63,7 +65,8 @@ void checkGrid(const GridGenerator& g, std::size_t index) {
 ///   u_φ → azimuth φ = 2π·u_φ; direction = (√(1−c²) cos φ, √(1−c²) sin φ, c)
 /// with u = (draw >> 11)·2⁻⁵³. The draws do not depend on speedMax, so changing the speed keeps
 /// the radii.
-void generateGrid(const GridGenerator& g, std::vector<CsvParticle>& out) {
+void sampleGrid(const GridGenerator& g,
+                const std::function<void(std::size_t, const CsvParticle&)>& visit) {
   std::mt19937_64 rng(g.seed);
   const std::size_t nx = std::size_t(g.cells[0]), ny = std::size_t(g.cells[1]);
   for (std::size_t k = 0; k < g.count; ++k) {
@@ -79,7 +82,7 @@ void generateGrid(const GridGenerator& g, std::vector<CsvParticle>& out) {
     p.position = g.origin + (cell + Vec3::Constant(0.5)) * g.cellSize;
     p.radius = g.radiusMin + (g.radiusMax - g.radiusMin) * uRadius;
     p.velocity = g.speedMax * uSpeed * Vec3(s * std::cos(phi), s * std::sin(phi), c);
-    out.push_back(p);
+    visit(k, p);
   }
 }
 
@@ -169,7 +172,7 @@ BuiltParticles build(const Scene& scene) {
   for (std::size_t index = 0; index < scene.generators.size(); ++index) {
     if (const auto* grid = std::get_if<GridGenerator>(&scene.generators[index])) {
       checkGrid(*grid, index);
-      generateGrid(*grid, all);
+      forEachGridParticle(*grid, [&all](std::size_t, const CsvParticle& p) { all.push_back(p); });
     } else {
       const auto& rows = readParticleCsv(std::get<CsvGenerator>(scene.generators[index]).path);
       all.insert(all.end(), rows.begin(), rows.end());
@@ -228,6 +231,11 @@ Simulation buildSimulation(const Scene& scene) {
   SimulationConfig config = scene.simulation;
   config.material.density = built.density;
   return Simulation(std::move(built.particles), buildWalls(scene.box), config);
+}
+
+void forEachGridParticle(const GridGenerator& grid,
+                         const std::function<void(std::size_t, const CsvParticle&)>& visit) {
+  sampleGrid(grid, visit);
 }
 
 }  // namespace granular

@@ -62,13 +62,13 @@
 #include <limits>
 #include <map>
 #include <numbers>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
+#include "grid_sampling.hpp"
 #include "particle_csv.hpp"
 #include "toml_table_reader.hpp"
 
@@ -203,29 +203,21 @@ BoxSpec readBox(const TomlTableReader& root, const std::string& file) {
 
 // 4. Particles ------------------------------------------------------------------------------------
 
-/// Replays the grid's documented sampling (docs/scenes.md: four draws per particle from
-/// std::mt19937_64(seed), the radius from the first) to find each particle's radius and centre
-/// exactly as the builder will: the smallest radius and total volume set the time-step limit,
+/// Samples the grid as the builder will (grid_sampling.hpp), to find each particle's radius and
+/// centre: the smallest radius and total volume set the time-step limit,
 /// and a particle outside the box is reported here, against the scene file. Cheap next to the
 /// run: a few nanoseconds a particle.
 void checkGridParticles(const TomlTableReader& r, const GridGenerator& g, const BoxSpec& box,
                         MotionBound& bound) {
-  std::mt19937_64 rng(g.seed);
-  const std::size_t nx = std::size_t(g.cells[0]), ny = std::size_t(g.cells[1]);
-  for (std::size_t k = 0; k < g.count; ++k) {
-    const double u = double(rng() >> 11) * 0x1.0p-53;
-    rng.discard(3);  // speed, direction, azimuth
-    const double radius = g.radiusMin + (g.radiusMax - g.radiusMin) * u;
-    const Vec3 cell(double(k % nx), double((k / nx) % ny), double(k / (nx * ny)));
-    const Vec3 centre = g.origin + (cell + Vec3::Constant(0.5)) * g.cellSize;
-    const std::string crossing = boxCrossing(centre, radius, box);
+  forEachGridParticle(g, [&](std::size_t k, const CsvParticle& p) {
+    const std::string crossing = boxCrossing(p.position, p.radius, box);
     if (!crossing.empty()) {
-      r.fail("origin", "grid particle " + std::to_string(k) + " at " + formatPoint(centre) +
-                           " with radius " + formatNumber(radius) + " m " + crossing +
+      r.fail("origin", "grid particle " + std::to_string(k) + " at " + formatPoint(p.position) +
+                           " with radius " + formatNumber(p.radius) + " m " + crossing +
                            " (check origin, cell_size and cells against box.min and box.max)");
     }
-    bound.add(radius);
-  }
+    bound.add(p.radius);
+  });
 }
 
 GridGenerator readGrid(const TomlTableReader& r, const BoxSpec& box, MotionBound& bound) {
