@@ -2,6 +2,10 @@
 /// one order for both directions, the file frame.
 #include "granular/checkpoint.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -195,6 +199,43 @@ void put(std::vector<char>& out, const T& v) {
   out.insert(out.end(), p, p + sizeof(T));
 }
 
+/// Writes `bytes` to `file` and waits until they are on the disk (fsync), so that after a
+/// power cut the checkpoint renamed over the old one is whole, not an empty file.
+void writeDurably(const std::filesystem::path& file, const std::vector<char>& bytes) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw CheckpointError(file.string() + ": cannot write checkpoint: " + std::strerror(errno));
+  }
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      throw CheckpointError(file.string() + ": cannot write checkpoint: " + why);
+    }
+    done += std::size_t(n);
+  }
+  if (::fsync(fd) != 0) {
+    const std::string why = std::strerror(errno);
+    ::close(fd);
+    throw CheckpointError(file.string() + ": cannot flush checkpoint to disk: " + why);
+  }
+  if (::close(fd) != 0) {
+    throw CheckpointError(file.string() + ": cannot write checkpoint: " + std::strerror(errno));
+  }
+}
+
+/// Best effort: a folder that cannot be opened or synced (some file systems) leaves the rename
+/// as durable as the file system makes it.
+void syncFolder(const std::filesystem::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
 }  // namespace
 
 void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
@@ -217,16 +258,13 @@ void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
 
   std::filesystem::path tmp = file;
   tmp += ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o.write(out.data(), static_cast<std::streamsize>(out.size()));
-    o.flush();
-    if (!o) throw CheckpointError(tmp.string() + ": cannot write checkpoint");
-  }
+  writeDurably(tmp, out);
   std::error_code ec;
   std::filesystem::rename(tmp, file, ec);
   if (ec)
     throw CheckpointError(file.string() + ": cannot rename checkpoint into place: " + ec.message());
+  // The rename itself reaches the disk with the folder's entry.
+  syncFolder(file.has_parent_path() ? file.parent_path() : std::filesystem::path("."));
 }
 
 CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
