@@ -5,10 +5,6 @@
 /// tested without touching this source.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -22,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-extern char** environ;
+#include "granular_process.hpp"
 
 namespace {
 
@@ -72,52 +68,29 @@ struct RunResult {
   std::string stderrText;
 };
 
-std::string readAll(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// `granular run SCENE --out OUT -q`, stdout discarded, stderr captured in a file. posix_spawn
-/// rather than popen: popen goes through a shell and captures only one stream.
+/// `granular run SCENE --out OUT -q` with stderr captured, killed after 60 s: a scene that is
+/// wrongly accepted runs the simulation, and the bound keeps a run that would not end finite.
 RunResult runGranular(const fs::path& scene, const fs::path& work) {
-  const fs::path errFile = work / "stderr.txt";
-  const std::string exe = GRANULAR_EXECUTABLE, sceneArg = scene.string(),
-                    outArg = (work / "out").string();
-  std::vector<char*> argv = {const_cast<char*>(exe.c_str()),
-                             const_cast<char*>("run"),
-                             const_cast<char*>(sceneArg.c_str()),
-                             const_cast<char*>("--out"),
-                             const_cast<char*>(outArg.c_str()),
-                             const_cast<char*>("-q"),
-                             nullptr};
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  granular::testing::GranularProcess run(
+      {"run", scene.string(), "--out", (work / "out").string(), "-q"}, work / "stderr.txt");
   RunResult result;
-  if (spawned != 0) {
-    result.stderrText = "posix_spawn failed: " + std::to_string(spawned);
+  if (!run.started()) {
+    result.stderrText = "posix_spawn failed: " + std::to_string(run.spawnError());
     return result;
   }
-  // A scene that is wrongly accepted runs the simulation; 60 s bounds a run that would not end.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  int wstatus = 0;
-  while (waitpid(pid, &wstatus, WNOHANG) == 0) {
+  while (run.running()) {
     if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid, SIGKILL);
-      waitpid(pid, &wstatus, 0);
+      run.kill();
       result.timedOut = true;
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  result.exited = !result.timedOut && WIFEXITED(wstatus);
-  result.status = result.exited ? WEXITSTATUS(wstatus) : WTERMSIG(wstatus);
-  result.stderrText = readAll(errFile);
+  const int status = run.wait();
+  result.exited = !result.timedOut && status >= 0;
+  result.status = status >= 0 ? status : -status;
+  result.stderrText = run.stderrText();
   return result;
 }
 

@@ -4,12 +4,6 @@
 /// And a NaN injected into the state stops the run at that step, naming the particle, with the
 /// last good state in the checkpoint, from which the run resumes to the same end.
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <fcntl.h>
 
 #include <chrono>
 #include <filesystem>
@@ -20,8 +14,7 @@
 #include <vector>
 
 #include "granular/checkpoint.hpp"
-
-extern char** environ;
+#include "granular_process.hpp"
 
 namespace {
 
@@ -31,52 +24,23 @@ using namespace std::chrono_literals;
 const fs::path kScene = fs::path(GRANULAR_SOURCE_DIR) / "tests/scenes/restart.toml";
 
 std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return granular::testing::readFile(file);
 }
 
-/// A started `granular run` with stdout and stderr in files of `out`'s parent.
-class Child {
+/// `granular run` of the restart scene into `out`, stderr beside it.
+class Child : public granular::testing::GranularProcess {
  public:
-  Child(const fs::path& out, std::vector<std::string> extra, std::vector<std::string> env = {}) {
-    std::vector<std::string> args = {GRANULAR_EXECUTABLE, "run", kScene.string(), "--out",
-                                     out.string(),        "-q"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    for (char** e = environ; *e; ++e) env.emplace_back(*e);
-    std::vector<char*> envp;
-    for (std::string& e : env) envp.push_back(e.data());
-    envp.push_back(nullptr);
-    log_ = out.string() + ".stderr";
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) pid_ = -1;
-  }
-  bool started() const { return pid_ > 0; }
-  /// Waits for the end; the exit status, or -signal.
-  int wait() {
-    int status = 0;
-    waitpid(pid_, &status, 0);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
-  }
-  bool running() {
-    int status = 0;
-    return waitpid(pid_, &status, WNOHANG) == 0;
-  }
-  void kill() { ::kill(pid_, SIGKILL); }
-  std::string stderrText() const { return slurp(log_); }
+  Child(const fs::path& out, const std::vector<std::string>& extra,
+        std::vector<std::string> env = {})
+      : GranularProcess(arguments(out, extra), out.string() + ".stderr", std::move(env)) {}
 
  private:
-  pid_t pid_ = -1;
-  std::string log_;
+  static std::vector<std::string> arguments(const fs::path& out,
+                                            const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"run", kScene.string(), "--out", out.string(), "-q"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  }
 };
 
 /// Waits until `file` has been replaced `times` times since the call (its contents change), or
