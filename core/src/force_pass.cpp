@@ -1,9 +1,9 @@
 /// The force pass: contact forces and torques of every contact at the current state (Eqs. 3-5).
 /// Specialised at compile time for the friction path and the normal law, so the frictionless
-/// scene carries no tangential history, no torques and no per-contact branch on either.
+/// scene carries no tangential history, no torques and no per-contact test of either.
 ///
-/// Sections: 1. one contact (pair, wall); 2. the hot pass, parallel and deterministic;
-/// 3. the measuring pass that visits every contact; 4. dispatch.
+/// Sections: 1. chunks of contacts in and out of the law (contact_law.hpp); 2. the hot pass,
+/// parallel and deterministic; 3. the measuring pass that visits every contact; 4. dispatch.
 ///
 /// The hot pass runs in two phases so that no two threads add to the same particle and the
 /// result does not depend on the thread count, bit for bit: (a) every contact's force is
@@ -12,9 +12,10 @@
 /// first particle, then as the second, then its wall contacts).
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 
-#include "contact_forces.hpp"
+#include "contact_law.hpp"
 #include "force_pass.hpp"
 
 namespace granular {
@@ -30,130 +31,212 @@ ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
           dt};
 }
 
-// ---- 1. One contact -----------------------------------------------------------------------
+// ---- 0. The chunk kernels, built twice ----------------------------------------------------
 
-/// Unit normal from i towards j. Coincident centres have no direction: +z is used so the
-/// particles are pushed apart along a defined axis instead of producing NaN.
-inline Vec3 unitNormal(const Vec3& d, double distance) {
-  return distance > 0.0 ? Vec3(d / distance) : Vec3(Vec3::UnitZ());
-}
-
-/// F_ij of Eq. (5) for particles i and j (or i and a wall) and its bookkeeping.
-/// `n` points from i towards the other body, `vrel` = v_i - v_other, lever arm a_i = R_i - h/2.
-template <bool kFriction, NormalLaw kLaw, bool kAdvance>
-inline Vec3 contactForce(const ContactConstants& c, TangentialHistory* history, const Vec3& n,
-                         double overlap, double radius, double mass, const Vec3& vrel,
-                         const Vec3& angularTerm, ContactPowers& powers) {
-  // Normal: elastic + viscous, never pulling (the clamp at zero).
-  double elastic = 0.0;
-  const double fe = normalElasticForce<kLaw>(c, radius, overlap, elastic);
-  const double overlapRate = vrel.dot(n);
-  const double fn = std::max(0.0, fe + c.normalDamping * mass * overlapRate);
-  powers.elasticNormal += elastic;
-  powers.normalDampingPower += (fn - fe) * overlapRate;
-  Vec3 f = -fn * n;
-  if constexpr (kFriction) {
-    f += tangentialForce<kAdvance>(c, *history, n, vrel + angularTerm, radius, overlap, mass, fn,
-                                   powers);
-  }
-  return f;
-}
-
-/// What one contact puts on its particle(s).
-struct ContactResult {
-  Vec3 force = Vec3::Zero();    ///< on particle i (−force on j) [N]
-  Vec3 torqueI = Vec3::Zero();  ///< d_ci × F on i [N m]
-  Vec3 moment = Vec3::Zero();   ///< n × F, the torques' common factor (pairs only) [N]
-  double overlap = 0.0;         ///< h [m]
-  Vec3 point = Vec3::Zero();    ///< contact point [m]
-  bool touching = false;
+/// The law's loops (contact_law.hpp) are built twice: for the baseline x86-64 (SSE2, 2 doubles
+/// per instruction) and for AVX2 (4), chosen once by what the CPU has; elsewhere only the
+/// plain build exists. Both builds give the same bits (no reductions, no fused multiply-add in
+/// the loops); tests/test_force_kernels.cpp checks it. Each wrapper inlines the kernels, so the
+/// whole loop is compiled for its target, while nothing shared (std::, Eigen) is.
+struct ChunkKernels {
+  void (*geometry)(ContactChunk&, std::size_t, bool friction);
+  void (*law)(const ContactConstants&, ContactChunk&, std::size_t, bool friction, NormalLaw,
+              bool advance);
 };
 
-/// Candidate pair k of the neighbour list. With kAdvance its tangential spring is advanced
-/// (and dropped when the pair is apart); without, it is only read.
-template <bool kFriction, NormalLaw kLaw, bool kAdvance>
-inline ContactResult evaluatePair(const ContactConstants& c, const Particles& p,
-                                  NeighbourList& list, std::size_t k, ContactPowers& powers) {
-  ContactResult r;
-  const std::uint32_t i = list.first[k], j = list.second[k];
-  const Vec3 d = p.position[j] - p.position[i];
-  const double reach = p.radius[i] + p.radius[j];
-  const double distance2 = d.squaredNorm();
-  if (distance2 >= reach * reach) {
-    if constexpr (kFriction && kAdvance) list.history[k] = TangentialHistory{};  // contact open
-    return r;
-  }
-  const double distance = std::sqrt(distance2);
-  const Vec3 n = unitNormal(d, distance);
-  const double h = reach - distance;
-  const double armI = p.radius[i] - 0.5 * h, armJ = p.radius[j] - 0.5 * h;  // lever arms
-  const double radius = p.radius[i] * p.radius[j] / reach;
-  const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-  const Vec3 vrel = p.velocity[i] - p.velocity[j];
-  Vec3 angularTerm = Vec3::Zero();
-  TangentialHistory* history = nullptr;
-  TangentialHistory scratch;
-  if constexpr (kFriction) {
-    // Contact-point velocity of i relative to j: ω_i × (a_i n) - ω_j × (-a_j n).
-    angularTerm = (armI * p.angularVelocity[i] + armJ * p.angularVelocity[j]).cross(n);
-    if constexpr (kAdvance) {
-      history = &list.history[k];
-    } else {
-      scratch = list.history[k];
-      history = &scratch;
-    }
-  }
-  r.force = contactForce<kFriction, kLaw, kAdvance>(c, history, n, h, radius, mass, vrel,
-                                                    angularTerm, powers);
-  if constexpr (kFriction) {
-    // d_ci × F with d_ci = a_i n; for j: (-a_j n) × (-F) = a_j n × F. The gather rebuilds both
-    // torques from n × F and h with the same arithmetic as here.
-    r.moment = n.cross(r.force);
-    r.overlap = h;
-  }
-  r.point = p.position[i] + armI * n;
-  r.touching = true;
-  ++powers.particleContacts;
-  return r;
+[[gnu::always_inline]] inline void geometryBody(ContactChunk& c, std::size_t m, bool friction) {
+  friction ? pairGeometry<true>(c, m) : pairGeometry<false>(c, m);
 }
 
-/// Candidate k of wall w: the wall is a body of infinite radius and mass (R_ij = R_i,
-/// m_ij = m_i) moving with its prescribed velocity.
-template <bool kFriction, NormalLaw kLaw, bool kAdvance>
-inline ContactResult evaluateWall(const ContactConstants& c, const Particles& p,
-                                  NeighbourList& list, const Wall& wall, std::size_t w,
-                                  std::size_t k, ContactPowers& powers) {
-  ContactResult r;
-  const std::uint32_t i = list.wallParticles[w][k];
-  const double distance = (p.position[i] - wall.point).dot(wall.normal);
-  const double h = p.radius[i] - distance;
-  if (h <= 0.0) {
-    if constexpr (kFriction && kAdvance) list.wallHistory[w][k] = TangentialHistory{};
-    return r;
-  }
-  const Vec3 n = -wall.normal;  // from the particle towards the wall
-  const double arm = p.radius[i] - 0.5 * h;
-  const Vec3 vrel = p.velocity[i] - wall.velocity;
-  Vec3 angularTerm = Vec3::Zero();
-  TangentialHistory* history = nullptr;
-  TangentialHistory scratch;
-  if constexpr (kFriction) {
-    angularTerm = arm * p.angularVelocity[i].cross(n);
-    if constexpr (kAdvance) {
-      history = &list.wallHistory[w][k];
+[[gnu::always_inline]] inline void lawBody(const ContactConstants& k, ContactChunk& c,
+                                           std::size_t m, bool friction, NormalLaw law,
+                                           bool advance) {
+  const bool hertz = law == NormalLaw::Hertz;
+  if (friction) {
+    if (hertz) {
+      advance ? contactLaw<true, NormalLaw::Hertz, true>(k, c, m)
+              : contactLaw<true, NormalLaw::Hertz, false>(k, c, m);
     } else {
-      scratch = list.wallHistory[w][k];
-      history = &scratch;
+      advance ? contactLaw<true, NormalLaw::Hooke, true>(k, c, m)
+              : contactLaw<true, NormalLaw::Hooke, false>(k, c, m);
+    }
+  } else {  // no spring: advancing or not is the same
+    hertz ? contactLaw<false, NormalLaw::Hertz, true>(k, c, m)
+          : contactLaw<false, NormalLaw::Hooke, true>(k, c, m);
+  }
+}
+
+void geometryBaseline(ContactChunk& c, std::size_t m, bool friction) {
+  geometryBody(c, m, friction);
+}
+void lawBaseline(const ContactConstants& k, ContactChunk& c, std::size_t m, bool friction,
+                 NormalLaw law, bool advance) {
+  lawBody(k, c, m, friction, law, advance);
+}
+
+#if defined(__x86_64__)
+[[gnu::target("avx2")]] void geometryAvx2(ContactChunk& c, std::size_t m, bool friction) {
+  geometryBody(c, m, friction);
+}
+[[gnu::target("avx2")]] void lawAvx2(const ContactConstants& k, ContactChunk& c, std::size_t m,
+                                     bool friction, NormalLaw law, bool advance) {
+  lawBody(k, c, m, friction, law, advance);
+}
+#endif
+
+bool cpuHasAvx2() {
+#if defined(__x86_64__)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+ForceKernelBuild& selectedBuild() {
+  static ForceKernelBuild build =
+      cpuHasAvx2() ? ForceKernelBuild::Avx2 : ForceKernelBuild::Baseline;
+  return build;
+}
+
+ChunkKernels kernels() {
+#if defined(__x86_64__)
+  if (selectedBuild() == ForceKernelBuild::Avx2) return {geometryAvx2, lawAvx2};
+#endif
+  return {geometryBaseline, lawBaseline};
+}
+
+// ---- 1. Chunks of contacts in and out -----------------------------------------------------
+
+/// Picks the touching pairs among the candidates [begin, begin + count) into c.slot; returns
+/// how many. Branch-free: the slot is always written and kept only when the pair touches.
+inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
+                                     std::size_t begin, std::size_t count, ContactChunk& c) {
+  std::size_t m = 0;
+  for (std::size_t k = begin; k < begin + count; ++k) {
+    const std::uint32_t i = list.first[k], j = list.second[k];
+    const double reach = p.radius[i] + p.radius[j];
+    c.slot[m] = static_cast<std::uint32_t>(k);
+    m += (p.position[j] - p.position[i]).squaredNorm() < reach * reach ? 1 : 0;
+  }
+  return m;
+}
+
+/// Same for wall w's candidates: touching when the overlap R_i - distance is positive.
+inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourList& list,
+                                            const Wall& wall, std::size_t w, std::size_t begin,
+                                            std::size_t count, ContactChunk& c) {
+  std::size_t m = 0;
+  for (std::size_t k = begin; k < begin + count; ++k) {
+    const std::uint32_t i = list.wallParticles[w][k];
+    const double distance = (p.position[i] - wall.point).dot(wall.normal);
+    c.slot[m] = static_cast<std::uint32_t>(k);
+    m += p.radius[i] - distance > 0.0 ? 1 : 0;
+  }
+  return m;
+}
+
+/// Copies the m picked pairs into the chunk (their geometry is computed next, by the kernel).
+template <bool kFriction>
+void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t k = c.slot[e];
+    const std::uint32_t i = list.first[k], j = list.second[k];
+    const Vec3 d = p.position[j] - p.position[i];
+    const Vec3 v = p.velocity[i] - p.velocity[j];
+    c.dx[e] = d.x();
+    c.dy[e] = d.y();
+    c.dz[e] = d.z();
+    c.ri[e] = p.radius[i];
+    c.rj[e] = p.radius[j];
+    c.mi[e] = p.mass[i];
+    c.mj[e] = p.mass[j];
+    c.vx[e] = v.x();
+    c.vy[e] = v.y();
+    c.vz[e] = v.z();
+    if constexpr (kFriction) {
+      const Vec3& wi = p.angularVelocity[i];
+      const Vec3& wj = p.angularVelocity[j];
+      c.wix[e] = wi.x();
+      c.wiy[e] = wi.y();
+      c.wiz[e] = wi.z();
+      c.wjx[e] = wj.x();
+      c.wjy[e] = wj.y();
+      c.wjz[e] = wj.z();
+      const TangentialHistory& spring = list.history[k];
+      c.sx[e] = spring.stretch.x();
+      c.sy[e] = spring.stretch.y();
+      c.sz[e] = spring.stretch.z();
+      c.stiffness[e] = spring.stiffness;
     }
   }
-  r.force = contactForce<kFriction, kLaw, kAdvance>(c, history, n, h, p.radius[i], p.mass[i], vrel,
-                                                    angularTerm, powers);
-  if constexpr (kFriction) r.torqueI = arm * n.cross(r.force);
-  r.point = p.position[i] + arm * n;
-  r.touching = true;
-  powers.wallPower += r.force.dot(wall.velocity);
-  ++powers.wallContacts;
-  return r;
+}
+
+/// Copies the m picked contacts of wall w into the chunk with their geometry: the wall is a
+/// body of infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed
+/// velocity; n points from the particle towards the wall.
+template <bool kFriction>
+void loadWallContacts(const Particles& p, const NeighbourList& list, const Wall& wall,
+                      std::size_t w, ContactChunk& c, std::size_t m) {
+  const Vec3 n = -wall.normal;
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t k = c.slot[e];
+    const std::uint32_t i = list.wallParticles[w][k];
+    const double h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
+    const double arm = p.radius[i] - 0.5 * h;
+    const Vec3 v = p.velocity[i] - wall.velocity;
+    c.nx[e] = n.x();
+    c.ny[e] = n.y();
+    c.nz[e] = n.z();
+    c.overlap[e] = h;
+    c.armI[e] = arm;
+    c.radius[e] = p.radius[i];
+    c.mass[e] = p.mass[i];
+    c.vx[e] = v.x();
+    c.vy[e] = v.y();
+    c.vz[e] = v.z();
+    if constexpr (kFriction) {
+      const Vec3 contactVelocity = v + arm * p.angularVelocity[i].cross(n);
+      c.cx[e] = contactVelocity.x();
+      c.cy[e] = contactVelocity.y();
+      c.cz[e] = contactVelocity.z();
+      const TangentialHistory& spring = list.wallHistory[w][k];
+      c.sx[e] = spring.stretch.x();
+      c.sy[e] = spring.stretch.y();
+      c.sz[e] = spring.stretch.z();
+      c.stiffness[e] = spring.stiffness;
+    }
+  }
+}
+
+inline Vec3 forceOf(const ContactChunk& c, std::size_t e) {
+  return {c.fx[e], c.fy[e], c.fz[e]};
+}
+inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
+  return {c.nx[e], c.ny[e], c.nz[e]};
+}
+
+/// Adds the powers of the chunk's m contacts to `powers` in contact order (so the sums are the
+/// same for any thread count and any vector width).
+template <bool kFriction>
+void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers) {
+  for (std::size_t e = 0; e < m; ++e) {
+    powers.elasticNormal += c.elasticNormal[e];
+    powers.normalDampingPower += c.normalDampingPower[e];
+    if constexpr (kFriction) {
+      powers.elasticTangential += c.elasticTangential[e];
+      powers.tangentialDampingPower += c.tangentialDampingPower[e];
+      powers.tangentialPower += c.tangentialPower[e];
+      powers.stiffnessWork += c.stiffnessWork[e];
+    }
+  }
+  if constexpr (kFriction) powers.tangentialEvaluations += m;
+}
+
+/// Writes the advanced springs of the chunk's m contacts back to their slots.
+inline void storeSprings(const ContactChunk& c, std::size_t m, TangentialHistory* springs) {
+  for (std::size_t e = 0; e < m; ++e) {
+    springs[c.slot[e]] = TangentialHistory{Vec3(c.sx[e], c.sy[e], c.sz[e]), c.stiffness[e]};
+  }
 }
 
 void addPowers(ContactPowers& sum, const ContactPowers& part) {
@@ -183,6 +266,7 @@ void parallelPass(SimulationState& s, double dt) {
   ContactScratch& out = s.contactScratch;
   const std::size_t pairs = list.first.size(), n = p.size();
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
+  const ChunkKernels kern = kernels();
 
   // (a) Pair forces into their slots.
   resizeScratch(out.pairForce, pairs);
@@ -192,38 +276,73 @@ void parallelPass(SimulationState& s, double dt) {
   }
   const std::size_t pairBlocks = (pairs + kBlock - 1) / kBlock;
   out.blockPowers.assign(pairBlocks, ContactPowers{});
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t b = 0; b < pairBlocks; ++b) {
-    // A local sum: the compiler keeps it in registers (the output arrays are doubles too, so a
-    // sum in memory would be reloaded after every store for fear of aliasing).
-    ContactPowers powers;
-    const std::size_t end = std::min(pairs, (b + 1) * kBlock);
-    for (std::size_t k = b * kBlock; k < end; ++k) {
-      const ContactResult r = evaluatePair<kFriction, kLaw, true>(c, p, list, k, powers);
-      out.pairForce[k] = r.force;
-      if constexpr (kFriction) {
-        out.pairMoment[k] = r.moment;
-        out.pairOverlap[k] = r.overlap;
+#pragma omp parallel num_threads(threads)
+  {
+    ContactChunk chunk;  // per thread, on its stack
+#pragma omp for schedule(static)
+    for (std::size_t b = 0; b < pairBlocks; ++b) {
+      // A local sum: the compiler keeps it in registers (the output arrays are doubles too, so
+      // a sum in memory would be reloaded after every store for fear of aliasing).
+      ContactPowers powers;
+      const std::size_t end = std::min(pairs, (b + 1) * kBlock);
+      for (std::size_t begin = b * kBlock; begin < end; begin += kChunk) {
+        const std::size_t count = std::min(kChunk, end - begin);
+        const std::size_t m = pickTouchingPairs(p, list, begin, count, chunk);
+        loadPairs<kFriction>(p, list, chunk, m);
+        kern.geometry(chunk, m, kFriction);
+        kern.law(c, chunk, m, kFriction, kLaw, true);
+        addChunkPowers<kFriction>(chunk, m, powers);
+        powers.particleContacts += m;
+        // Candidates apart carry no force, and a contact that opened forgets its spring.
+        std::fill_n(out.pairForce.begin() + begin, count, Vec3::Zero());
+        for (std::size_t e = 0; e < m; ++e) out.pairForce[chunk.slot[e]] = forceOf(chunk, e);
+        if constexpr (kFriction) {
+          std::fill_n(out.pairMoment.begin() + begin, count, Vec3::Zero());
+          std::fill_n(out.pairOverlap.begin() + begin, count, 0.0);
+          std::fill_n(list.history.begin() + begin, count, TangentialHistory{});
+          for (std::size_t e = 0; e < m; ++e) {
+            out.pairMoment[chunk.slot[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+            out.pairOverlap[chunk.slot[e]] = chunk.overlap[e];
+          }
+          storeSprings(chunk, m, list.history.data());
+        }
       }
+      out.blockPowers[b] = powers;
     }
-    out.blockPowers[b] = powers;
   }
-  // Wall contacts (few: one block per wall), in their own slots.
+  // Wall contacts (few), in their own slots.
   ContactPowers powers;
   for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
   out.wallForce.resize(s.walls.size());
   out.wallTorque.resize(s.walls.size());
+  ContactChunk chunk;
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
-    const std::size_t m = list.wallParticles[w].size();
-    out.wallForce[w].resize(m);
-    if constexpr (kFriction) out.wallTorque[w].resize(m);
+    const Wall& wall = s.walls[w];
+    const std::size_t candidates = list.wallParticles[w].size();
+    out.wallForce[w].assign(candidates, Vec3::Zero());
+    if constexpr (kFriction) out.wallTorque[w].assign(candidates, Vec3::Zero());
     Vec3 reaction = Vec3::Zero();
-    for (std::size_t k = 0; k < m; ++k) {
-      const ContactResult r =
-          evaluateWall<kFriction, kLaw, true>(c, p, list, s.walls[w], w, k, powers);
-      out.wallForce[w][k] = r.force;
-      if constexpr (kFriction) out.wallTorque[w][k] = r.torqueI;
-      reaction -= r.force;
+    for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, candidates - begin);
+      const std::size_t m = pickTouchingWallContacts(p, list, wall, w, begin, count, chunk);
+      loadWallContacts<kFriction>(p, list, wall, w, chunk, m);
+      kern.law(c, chunk, m, kFriction, kLaw, true);
+      addChunkPowers<kFriction>(chunk, m, powers);
+      powers.wallContacts += m;
+      for (std::size_t e = 0; e < m; ++e) {
+        const Vec3 f = forceOf(chunk, e);
+        out.wallForce[w][chunk.slot[e]] = f;
+        if constexpr (kFriction) {
+          // d_ci × F on the particle, d_ci = a n.
+          out.wallTorque[w][chunk.slot[e]] = chunk.armI[e] * normalOf(chunk, e).cross(f);
+        }
+        powers.wallPower += f.dot(wall.velocity);
+        reaction -= f;
+      }
+      if constexpr (kFriction) {
+        std::fill_n(list.wallHistory[w].begin() + begin, count, TangentialHistory{});
+        storeSprings(chunk, m, list.wallHistory[w].data());
+      }
     }
     s.walls[w].reaction = reaction;
   }
@@ -262,28 +381,41 @@ void parallelPass(SimulationState& s, double dt) {
 /// `force`, and `visit(i, other, point, F)` sees each contact once.
 template <bool kFriction, NormalLaw kLaw, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
-  // Without advancing, the evaluations only read the list: casting away const is safe here.
-  auto& s = const_cast<SimulationState&>(state);
+  const SimulationState& s = state;
   const ContactConstants c = constantsOf(s.config, s.config.timeStep);
   const Particles& p = s.particles;
-  ContactPowers powers;
+  const NeighbourList& list = s.neighbours;
+  const ChunkKernels kern = kernels();
+  ContactChunk chunk;
   force.assign(p.size(), Vec3::Zero());
-  for (std::size_t k = 0; k < s.neighbours.first.size(); ++k) {
-    const ContactResult r = evaluatePair<kFriction, kLaw, false>(c, p, s.neighbours, k, powers);
-    if (!r.touching) continue;
-    const std::uint32_t i = s.neighbours.first[k], j = s.neighbours.second[k];
-    force[i] += r.force;
-    force[j] -= r.force;
-    visit(i, static_cast<long>(j), r.point, r.force);
+  for (std::size_t begin = 0; begin < list.first.size(); begin += kChunk) {
+    const std::size_t count = std::min(kChunk, list.first.size() - begin);
+    const std::size_t m = pickTouchingPairs(p, list, begin, count, chunk);
+    loadPairs<kFriction>(p, list, chunk, m);
+    kern.geometry(chunk, m, kFriction);
+    kern.law(c, chunk, m, kFriction, kLaw, false);
+    for (std::size_t e = 0; e < m; ++e) {
+      const std::uint32_t i = list.first[chunk.slot[e]], j = list.second[chunk.slot[e]];
+      const Vec3 f = forceOf(chunk, e);
+      force[i] += f;
+      force[j] -= f;
+      visit(i, static_cast<long>(j), Vec3(p.position[i] + chunk.armI[e] * normalOf(chunk, e)), f);
+    }
   }
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
-    for (std::size_t k = 0; k < s.neighbours.wallParticles[w].size(); ++k) {
-      const ContactResult r =
-          evaluateWall<kFriction, kLaw, false>(c, p, s.neighbours, s.walls[w], w, k, powers);
-      if (!r.touching) continue;
-      const std::uint32_t i = s.neighbours.wallParticles[w][k];
-      force[i] += r.force;
-      visit(i, -static_cast<long>(w) - 1, r.point, r.force);
+    const std::size_t candidates = list.wallParticles[w].size();
+    for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, candidates - begin);
+      const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
+      loadWallContacts<kFriction>(p, list, s.walls[w], w, chunk, m);
+      kern.law(c, chunk, m, kFriction, kLaw, false);
+      for (std::size_t e = 0; e < m; ++e) {
+        const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
+        const Vec3 f = forceOf(chunk, e);
+        force[i] += f;
+        visit(i, -static_cast<long>(w) - 1,
+              Vec3(p.position[i] + chunk.armI[e] * normalOf(chunk, e)), f);
+      }
     }
   }
 }
@@ -303,6 +435,16 @@ void withLaw(const SimulationState& s, F&& f) {
 }
 
 }  // namespace
+
+ForceKernelBuild forceKernelBuild() {
+  return selectedBuild();
+}
+
+bool setForceKernelBuild(ForceKernelBuild build) {
+  if (build == ForceKernelBuild::Avx2 && !cpuHasAvx2()) return false;
+  selectedBuild() = build;
+  return true;
+}
 
 void computeContactForces(SimulationState& s, double dt) {
   withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() { parallelPass<kFriction, kLaw>(s, dt); });

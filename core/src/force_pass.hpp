@@ -7,6 +7,14 @@
 
 namespace granular {
 
+/// Which build of the contact-law loops runs (force_pass.cpp): AVX2 where the CPU has it, the
+/// baseline x86-64 one otherwise. Both give the same bits; tests switch to compare them.
+enum class ForceKernelBuild { Baseline, Avx2 };
+ForceKernelBuild forceKernelBuild();
+/// Selects a build for the whole process; false (and nothing changed) if the CPU lacks it.
+/// Not thread-safe: call it before stepping.
+bool setForceKernelBuild(ForceKernelBuild build);
+
 /// Contact forces, torques, wall reactions and contact powers at the current state; advances the
 /// tangential springs by one time step `dt` (0 evaluates without advancing them).
 void computeContactForces(SimulationState& s, double dt);

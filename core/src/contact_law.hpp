@@ -1,0 +1,225 @@
+#pragma once
+/// The contact law of design §2 (Eqs. 3-5), evaluated for a chunk of contacts at once.
+///
+/// Why chunks: the law is a chain of square roots and divisions (distance, normal, reduced
+/// radius and mass, the spring's rotation, k_t ∝ √(R h), the Coulomb scaling) with
+/// data-dependent branches (sliding or sticking, a spring or none). One contact at a time, the
+/// CPU waits on those latencies and mispredicts the branches. Here the force pass copies the
+/// touching contacts of a chunk of candidates into arrays (`ContactChunk`), and two branch-free
+/// loops over the arrays compute the geometry and the law for several contacts per instruction
+/// (2 with SSE2, 4 with AVX2). Every operation is
+/// an IEEE operation on one lane (no reductions inside the loops, no fused multiply-add:
+/// -ffp-contract=off), so the results are the same bits whatever vector width the compiler
+/// picks, and the same as one contact at a time would give. Every operation is done for every
+/// lane and the unwanted results are dropped by a select (`cond ? a : b` of two computed
+/// values): a division or root under a condition would be a branch (it might trap), and a
+/// branch stops the vectoriser.
+///
+/// Particle pairs and particle-wall contacts share `contactLaw`; only the geometry differs (a
+/// wall is a body of infinite radius and mass moving with its prescribed velocity).
+#include <cstddef>
+#include <cstdint>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// Constants of the law for a scene, computed once.
+struct ContactConstants {
+  double normalCoefficient;      ///< (2/3) E/(1-ν²) [Pa]
+  double tangentialCoefficient;  ///< (8/3) G/(2-ν) [Pa]
+  double normalDamping;          ///< γn [1/s]
+  double tangentialDamping;      ///< γt [1/s]
+  double friction;               ///< μ [-]
+  double dt;                     ///< [s]
+};
+
+/// Contacts per chunk: 64 fill the arrays below with ≈ 20 KB, which stays in L1 beside the
+/// particle data being gathered.
+constexpr std::size_t kChunk = 64;
+
+/// One chunk of contacts as arrays (one entry per contact). Inputs are filled by the caller
+/// (pairs: the raw columns then `pairGeometry`; walls: the geometry directly); `contactLaw`
+/// fills the outputs and, when it advances, the new spring.
+struct ContactChunk {
+  std::uint32_t slot[kChunk];  ///< the contact's index in the list it came from
+  // Raw pair data (pairGeometry's input): centre offset x_j - x_i, radii, masses, angular
+  // velocities.
+  alignas(64) double dx[kChunk], dy[kChunk], dz[kChunk];
+  alignas(64) double ri[kChunk], rj[kChunk], mi[kChunk], mj[kChunk];
+  alignas(64) double wix[kChunk], wiy[kChunk], wiz[kChunk], wjx[kChunk], wjy[kChunk], wjz[kChunk];
+  // Geometry (contactLaw's input); every contact in a chunk touches.
+  alignas(64) double nx[kChunk], ny[kChunk], nz[kChunk];  ///< unit normal from i to the other
+  alignas(64) double overlap[kChunk];                     ///< h [m]
+  alignas(64) double armI[kChunk];                        ///< lever arm R_i - h/2 [m]
+  alignas(64) double radius[kChunk], mass[kChunk];        ///< R_ij [m], m_ij [kg]
+  alignas(64) double vx[kChunk], vy[kChunk], vz[kChunk];  ///< v_i - v_other [m/s]
+  alignas(64) double cx[kChunk], cy[kChunk], cz[kChunk];  ///< contact-point velocity [m/s]
+  // Tangential spring: the stored one in, the advanced one out.
+  alignas(64) double sx[kChunk], sy[kChunk], sz[kChunk], stiffness[kChunk];
+  // Between the law's two loops (friction only): trial tangential force [N], tangential
+  // velocity [m/s], k_t [N/m], Coulomb limit μ F_n [N].
+  alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk];
+  alignas(64) double vtx[kChunk], vty[kChunk], vtz[kChunk];
+  alignas(64) double kt[kChunk], limit[kChunk];
+  // Outputs: force on i [N], n × F [N] (friction only), and this contact's share of each power.
+  alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
+  alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
+  alignas(64) double elasticNormal[kChunk], normalDampingPower[kChunk];
+  alignas(64) double elasticTangential[kChunk], tangentialDampingPower[kChunk];
+  alignas(64) double tangentialPower[kChunk], stiffnessWork[kChunk];
+};
+
+/// Pair geometry from the raw columns dx..mj of touching pairs (and the angular velocities with
+/// friction; v is already v_i - v_j): n, h, lever arm, R_ij, m_ij, contact-point velocity.
+/// Coincident centres have no direction: +z is used, so the particles are pushed apart along a
+/// defined axis instead of producing NaN.
+template <bool kFriction>
+[[gnu::always_inline]] inline void pairGeometry(ContactChunk& c, std::size_t count) {
+#pragma omp simd
+  for (std::size_t k = 0; k < count; ++k) {
+    const double d2 = c.dx[k] * c.dx[k] + c.dy[k] * c.dy[k] + c.dz[k] * c.dz[k];
+    const double reach = c.ri[k] + c.rj[k];
+    const double distance = std::sqrt(d2);
+    const bool apart = distance > 0.0;
+    const double nx = apart ? c.dx[k] / (apart ? distance : 1.0) : 0.0;
+    const double ny = apart ? c.dy[k] / (apart ? distance : 1.0) : 0.0;
+    const double nz = apart ? c.dz[k] / (apart ? distance : 1.0) : 1.0;
+    const double h = reach - distance;
+    const double armI = c.ri[k] - 0.5 * h;
+    c.nx[k] = nx;
+    c.ny[k] = ny;
+    c.nz[k] = nz;
+    c.overlap[k] = h;
+    c.armI[k] = armI;
+    c.radius[k] = c.ri[k] * c.rj[k] / reach;
+    c.mass[k] = c.mi[k] * c.mj[k] / (c.mi[k] + c.mj[k]);
+    if constexpr (kFriction) {
+      // Contact-point velocity of i relative to j: v_i - v_j + (a_i ω_i + a_j ω_j) × n.
+      const double armJ = c.rj[k] - 0.5 * h;
+      const double ax = armI * c.wix[k] + armJ * c.wjx[k];
+      const double ay = armI * c.wiy[k] + armJ * c.wjy[k];
+      const double az = armI * c.wiz[k] + armJ * c.wjz[k];
+      c.cx[k] = c.vx[k] + (ay * nz - az * ny);
+      c.cy[k] = c.vy[k] + (az * nx - ax * nz);
+      c.cz[k] = c.vz[k] + (ax * ny - ay * nx);
+    }
+  }
+}
+
+/// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body:
+/// normal elastic k R^(2-α) h^α plus dashpot γn m ḣ, clamped at zero (never pulling); with
+/// friction the tangential spring k_t ξ, k_t = (8/3) G √(R h)/(2-ν), plus dashpot γt m v_t,
+/// capped at μ F_n. The stored spring is first rotated into the current tangent plane keeping
+/// its length (the contact frame turns with the particles, the stretch does not grow or shrink
+/// by it); while sliding it is reset so that the spring alone carries the cap. With kAdvance
+/// the spring is advanced by v_t Δt and written back; without, the force is evaluated for the
+/// stored spring (measurements between steps).
+template <bool kFriction, NormalLaw kLaw, bool kAdvance>
+[[gnu::always_inline]] inline void contactLaw(const ContactConstants& k0, ContactChunk& c,
+                                              std::size_t count) {
+  // Two loops rather than one: each iteration's chain of roots and divisions is long (the
+  // spring's rotation, k_t, then the Coulomb scaling), and with the loop split the CPU overlaps
+  // more contacts' chains.
+#pragma omp simd
+  for (std::size_t k = 0; k < count; ++k) {
+    const double h = c.overlap[k], nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
+    const double radius = c.radius[k], mass = c.mass[k];
+    // Normal: elastic + viscous, never pulling.
+    double fe, elastic;
+    if constexpr (kLaw == NormalLaw::Hooke) {
+      fe = k0.normalCoefficient * radius * h;
+      elastic = 0.5 * fe * h;
+    } else {
+      fe = k0.normalCoefficient * std::sqrt(radius * h) * h;
+      elastic = 0.4 * fe * h;
+    }
+    const double rate = c.vx[k] * nx + c.vy[k] * ny + c.vz[k] * nz;  // ḣ
+    const double fn = std::max(0.0, fe + k0.normalDamping * mass * rate);
+    c.fx[k] = -fn * nx;
+    c.fy[k] = -fn * ny;
+    c.fz[k] = -fn * nz;
+    c.elasticNormal[k] = elastic;
+    c.normalDampingPower[k] = (fn - fe) * rate;
+    if constexpr (kFriction) {
+      const double cn = c.cx[k] * nx + c.cy[k] * ny + c.cz[k] * nz;
+      const double vtx = c.cx[k] - cn * nx, vty = c.cy[k] - cn * ny, vtz = c.cz[k] - cn * nz;
+      // The stored spring rotated into the tangent plane, its length kept.
+      double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
+      const double length2 = sx * sx + sy * sy + sz * sz;
+      const double sn = sx * nx + sy * ny + sz * nz;
+      sx -= sn * nx;
+      sy -= sn * ny;
+      sz -= sn * nz;
+      const double projected2 = sx * sx + sy * sy + sz * sz;
+      const double ratio = std::sqrt(length2 / (projected2 > 0.0 ? projected2 : 1.0));
+      const double turn = projected2 > 0.0 ? ratio : 0.0;
+      sx *= turn;
+      sy *= turn;
+      sz *= turn;
+      const double kt = k0.tangentialCoefficient * std::sqrt(radius * h);
+      c.stiffnessWork[k] = 0.0;
+      if constexpr (kAdvance) {
+        c.stiffnessWork[k] = 0.5 * (kt - c.stiffness[k]) * length2;
+        sx += vtx * k0.dt;
+        sy += vty * k0.dt;
+        sz += vtz * k0.dt;
+      }
+      const double damping = k0.tangentialDamping * mass;
+      // The trial force, before the Coulomb cap.
+      c.tx[k] = -kt * sx - damping * vtx;
+      c.ty[k] = -kt * sy - damping * vty;
+      c.tz[k] = -kt * sz - damping * vtz;
+      c.sx[k] = sx;
+      c.sy[k] = sy;
+      c.sz[k] = sz;
+      c.vtx[k] = vtx;
+      c.vty[k] = vty;
+      c.vtz[k] = vtz;
+      c.kt[k] = kt;
+      c.limit[k] = k0.friction * fn;
+      c.tangentialDampingPower[k] = damping * (vtx * vtx + vty * vty + vtz * vtz);
+    }
+  }
+  if constexpr (kFriction) {
+#pragma omp simd
+    for (std::size_t k = 0; k < count; ++k) {
+      double tx = c.tx[k], ty = c.ty[k], tz = c.tz[k];
+      const double limit = c.limit[k], kt = c.kt[k];
+      const double ft2 = tx * tx + ty * ty + tz * tz;
+      const bool sliding = ft2 > limit * limit;
+      // Gross sliding: Coulomb, and the spring carries the whole limit.
+      const double scaled = limit / std::sqrt(sliding ? ft2 : 1.0);
+      const double cap = sliding ? scaled : 1.0;
+      tx *= cap;
+      ty *= cap;
+      tz *= cap;
+      const double inverse = 1.0 / (kt > 0.0 ? kt : 1.0);
+      const double compliance = kt > 0.0 ? inverse : 0.0;
+      const double sx = sliding ? -tx * compliance : c.sx[k];
+      const double sy = sliding ? -ty * compliance : c.sy[k];
+      const double sz = sliding ? -tz * compliance : c.sz[k];
+      const double dampingPower = c.tangentialDampingPower[k];
+      c.tangentialDampingPower[k] = sliding ? 0.0 : dampingPower;  // sticking only
+      c.tangentialPower[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];
+      c.elasticTangential[k] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
+      if constexpr (kAdvance) {
+        c.sx[k] = sx;
+        c.sy[k] = sy;
+        c.sz[k] = sz;
+        c.stiffness[k] = kt;
+      }
+      const double fx = c.fx[k] + tx, fy = c.fy[k] + ty, fz = c.fz[k] + tz;
+      c.fx[k] = fx;
+      c.fy[k] = fy;
+      c.fz[k] = fz;
+      // n × F: the torques' common factor (d_ci × F with d_ci = a_i n).
+      const double nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
+      c.mx[k] = ny * fz - nz * fy;
+      c.my[k] = nz * fx - nx * fz;
+      c.mz[k] = nx * fy - ny * fx;
+    }
+  }
+}
+
+}  // namespace granular
