@@ -2,14 +2,15 @@
 /// Specialised at compile time for the friction path and the normal law, so the frictionless
 /// scene carries no tangential history, no torques and no per-contact test of either.
 ///
-/// Sections: 1. chunks of contacts in and out of the law (contact_law.hpp); 2. the hot pass,
-/// parallel and deterministic; 3. the measuring pass that visits every contact; 4. dispatch.
+/// Sections: 0. the law's kernels in two builds; 1. chunks of contacts in and out of the law
+/// (contact_law.hpp); 2. the hot pass, parallel and deterministic; 3. the measuring pass that
+/// visits every contact; 4. dispatch.
 ///
-/// The hot pass runs in two phases so that no two threads add to the same particle and the
-/// result does not depend on the thread count, bit for bit: (a) every contact's force is
-/// computed into its own slot (pairs and wall contacts in fixed blocks, powers summed per block
-/// in order); (b) each particle gathers its contacts' forces in a fixed order (its pairs as the
-/// first particle, then as the second, then its wall contacts).
+/// On several threads the hot pass runs in two phases so that no two threads add to the same
+/// particle: (a) every contact's force is computed into its own slot (pairs in fixed blocks,
+/// powers summed per block in order); (b) each particle gathers its contacts' forces in a fixed
+/// order. On one thread each contact adds to its particles directly, in that same order, so
+/// the result does not depend on the thread count, bit for bit.
 #include <omp.h>
 
 #include <algorithm>
@@ -258,22 +259,32 @@ void addPowers(ContactPowers& sum, const ContactPowers& part) {
 /// not depend on the thread count.
 constexpr std::size_t kBlock = 512;
 
-template <bool kFriction, NormalLaw kLaw>
-void parallelPass(SimulationState& s, double dt) {
+/// The pass for one thread (kDirect: each contact adds to its particles as it is computed) or
+/// several (each contact into its own slot, then every particle gathers its slots). Both add a
+/// particle's contacts in the same order: the pairs where it is second (they come before its
+/// own, since the list is sorted by first and first < second), then those where it is first,
+/// each in list order, then its wall contacts by wall and candidate. So they give the same bits,
+/// and one thread skips the slots and the gather.
+template <bool kFriction, NormalLaw kLaw, bool kDirect>
+void forcePass(SimulationState& s, double dt, int threads) {
   const ContactConstants c = constantsOf(s.config, dt);
   const Particles& p = s.particles;
   NeighbourList& list = s.neighbours;
   ContactScratch& out = s.contactScratch;
   const std::size_t pairs = list.first.size(), n = p.size();
-  const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
   const ChunkKernels kern = kernels();
 
-  // (a) Pair forces into their slots.
-  resizeScratch(out.pairForce, pairs);
-  if constexpr (kFriction) {
-    resizeScratch(out.pairMoment, pairs);
-    resizeScratch(out.pairOverlap, pairs);
+  if constexpr (kDirect) {
+    s.force.assign(n, Vec3::Zero());
+    if constexpr (kFriction) s.torque.assign(n, Vec3::Zero());
+  } else {
+    resizeScratch(out.pairForce, pairs);
+    if constexpr (kFriction) {
+      resizeScratch(out.pairMoment, pairs);
+      resizeScratch(out.pairOverlap, pairs);
+    }
   }
+  // (a) Particle pairs.
   const std::size_t pairBlocks = (pairs + kBlock - 1) / kBlock;
   out.blockPowers.assign(pairBlocks, ContactPowers{});
 #pragma omp parallel num_threads(threads)
@@ -293,34 +304,55 @@ void parallelPass(SimulationState& s, double dt) {
         kern.law(c, chunk, m, kFriction, kLaw, true);
         addChunkPowers<kFriction>(chunk, m, powers);
         powers.particleContacts += m;
-        // Candidates apart carry no force, and a contact that opened forgets its spring.
-        std::fill_n(out.pairForce.begin() + begin, count, Vec3::Zero());
-        for (std::size_t e = 0; e < m; ++e) out.pairForce[chunk.slot[e]] = forceOf(chunk, e);
-        if constexpr (kFriction) {
-          std::fill_n(out.pairMoment.begin() + begin, count, Vec3::Zero());
-          std::fill_n(out.pairOverlap.begin() + begin, count, 0.0);
-          std::fill_n(list.history.begin() + begin, count, TangentialHistory{});
+        if constexpr (kDirect) {
           for (std::size_t e = 0; e < m; ++e) {
-            out.pairMoment[chunk.slot[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
-            out.pairOverlap[chunk.slot[e]] = chunk.overlap[e];
+            const std::uint32_t i = list.first[chunk.slot[e]], j = list.second[chunk.slot[e]];
+            const Vec3 f = forceOf(chunk, e);
+            s.force[i] += f;
+            s.force[j] -= f;
+            if constexpr (kFriction) {
+              // d_ci × F = a_i n × F on i; (-a_j n) × (-F) = a_j n × F on j.
+              const Vec3 moment(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+              s.torque[i] += (p.radius[i] - 0.5 * chunk.overlap[e]) * moment;
+              s.torque[j] += (p.radius[j] - 0.5 * chunk.overlap[e]) * moment;
+            }
           }
+        } else {
+          // Candidates apart carry no force.
+          std::fill_n(out.pairForce.begin() + begin, count, Vec3::Zero());
+          for (std::size_t e = 0; e < m; ++e) out.pairForce[chunk.slot[e]] = forceOf(chunk, e);
+          if constexpr (kFriction) {
+            std::fill_n(out.pairMoment.begin() + begin, count, Vec3::Zero());
+            std::fill_n(out.pairOverlap.begin() + begin, count, 0.0);
+            for (std::size_t e = 0; e < m; ++e) {
+              out.pairMoment[chunk.slot[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+              out.pairOverlap[chunk.slot[e]] = chunk.overlap[e];
+            }
+          }
+        }
+        if constexpr (kFriction) {  // a contact that opened forgets its spring
+          std::fill_n(list.history.begin() + begin, count, TangentialHistory{});
           storeSprings(chunk, m, list.history.data());
         }
       }
       out.blockPowers[b] = powers;
     }
   }
-  // Wall contacts (few), in their own slots.
+  // (b) Wall contacts (few).
   ContactPowers powers;
   for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
-  out.wallForce.resize(s.walls.size());
-  out.wallTorque.resize(s.walls.size());
+  if constexpr (!kDirect) {
+    out.wallForce.resize(s.walls.size());
+    out.wallTorque.resize(s.walls.size());
+  }
   ContactChunk chunk;
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const Wall& wall = s.walls[w];
     const std::size_t candidates = list.wallParticles[w].size();
-    out.wallForce[w].assign(candidates, Vec3::Zero());
-    if constexpr (kFriction) out.wallTorque[w].assign(candidates, Vec3::Zero());
+    if constexpr (!kDirect) {
+      out.wallForce[w].assign(candidates, Vec3::Zero());
+      if constexpr (kFriction) out.wallTorque[w].assign(candidates, Vec3::Zero());
+    }
     Vec3 reaction = Vec3::Zero();
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
@@ -330,11 +362,18 @@ void parallelPass(SimulationState& s, double dt) {
       addChunkPowers<kFriction>(chunk, m, powers);
       powers.wallContacts += m;
       for (std::size_t e = 0; e < m; ++e) {
+        const std::uint32_t k = chunk.slot[e];
         const Vec3 f = forceOf(chunk, e);
-        out.wallForce[w][chunk.slot[e]] = f;
-        if constexpr (kFriction) {
-          // d_ci × F on the particle, d_ci = a n.
-          out.wallTorque[w][chunk.slot[e]] = chunk.armI[e] * normalOf(chunk, e).cross(f);
+        // d_ci × F on the particle, d_ci = a n.
+        const Vec3 torque =
+            kFriction ? Vec3(chunk.armI[e] * normalOf(chunk, e).cross(f)) : Vec3(Vec3::Zero());
+        if constexpr (kDirect) {
+          const std::uint32_t i = list.wallParticles[w][k];
+          s.force[i] += f;
+          if constexpr (kFriction) s.torque[i] += torque;
+        } else {
+          out.wallForce[w][k] = f;
+          if constexpr (kFriction) out.wallTorque[w][k] = torque;
         }
         powers.wallPower += f.dot(wall.velocity);
         reaction -= f;
@@ -347,8 +386,9 @@ void parallelPass(SimulationState& s, double dt) {
     s.walls[w].reaction = reaction;
   }
   s.powers = powers;
+  if constexpr (kDirect) return;
 
-  // (b) Each particle gathers its contacts in a fixed order.
+  // (c) Each particle gathers its slots, in the order stated above.
   const ContactIndex& index = list.index;
   s.force.resize(n);
   if constexpr (kFriction) s.torque.resize(n);
@@ -356,13 +396,13 @@ void parallelPass(SimulationState& s, double dt) {
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 f = Vec3::Zero(), t = Vec3::Zero();
     const double radius = p.radius[i];
-    for (std::uint32_t k = index.firstStart[i]; k < index.firstStart[i + 1]; ++k) {
-      f += out.pairForce[k];
-      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
-    }
     for (std::uint32_t e = index.secondStart[i]; e < index.secondStart[i + 1]; ++e) {
       const std::uint32_t k = index.secondPairs[e];
       f -= out.pairForce[k];
+      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
+    }
+    for (std::uint32_t k = index.firstStart[i]; k < index.firstStart[i + 1]; ++k) {
+      f += out.pairForce[k];
       if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
     }
     for (std::uint32_t e = index.wallStart[i]; e < index.wallStart[i + 1]; ++e) {
@@ -447,7 +487,14 @@ bool setForceKernelBuild(ForceKernelBuild build) {
 }
 
 void computeContactForces(SimulationState& s, double dt) {
-  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() { parallelPass<kFriction, kLaw>(s, dt); });
+  const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
+  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() {
+    if (threads == 1) {
+      forcePass<kFriction, kLaw, true>(s, dt, threads);
+    } else {
+      forcePass<kFriction, kLaw, false>(s, dt, threads);
+    }
+  });
 }
 
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,

@@ -5,10 +5,6 @@
 namespace granular {
 namespace {
 
-int threadCount(int threads) {
-  return threads > 0 ? threads : omp_get_max_threads();
-}
-
 /// A Vec3 array as its 3n doubles: the loops below act on each component alike, and over a flat
 /// array the compiler vectorises them without shuffling x, y, z. Eigen stores a Vector3d as
 /// three contiguous doubles with no padding.
@@ -23,53 +19,60 @@ inline double* flat(std::vector<Vec3>* v) {
   return v ? flat(*v) : nullptr;
 }
 
-// A NaN or infinite value is caught in the loops that write the state: x·0 is NaN exactly for
-// NaN and ±∞, so `x * 0.0 != 0.0` (a quiet comparison) flags them, OR-ed over the loop. It
-// checks every value at no extra memory traffic, and OR vectorises where a sum would not.
-
-}  // namespace
-
-namespace {
-
-/// Gear's predictor over n values; with kPositions also x (translation), without only the
-/// velocity and its derivatives (rotation).
-template <bool kPositions>
-void gearPredict(double* __restrict x, double* __restrict v, Derivatives& d, std::size_t n,
-                 double dt, int threads) {
-  double* __restrict d2 = flat(d.d2);
-  double* __restrict d3 = flat(d.d3);
-  double* __restrict d4 = flat(d.d4);
-  const double* __restrict d5 = flat(d.d5);
-  const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
-#pragma omp parallel for simd schedule(static) num_threads(threadCount(threads))
-  for (std::size_t k = 0; k < n; ++k) {
-    const double a = d2[k], b = d3[k], c = d4[k], e = d5[k];
-    // Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!.
-    if constexpr (kPositions) x[k] += dt * (v[k] + h2 * (a + h3 * (b + h4 * (c + h5 * e))));
-    v[k] += dt * (a + h2 * (b + h3 * (c + h4 * e)));
-    d2[k] = a + dt * (b + h2 * (c + h3 * e));
-    d3[k] = b + dt * (c + h2 * e);
-    d4[k] = c + dt * e;
+/// Runs `loop(begin, end)` over [0, n) split into one contiguous range per thread and ORs what
+/// the ranges return. Every value is computed alone, so the split does not change the bits. One
+/// thread runs the loop in place, with no parallel region. (The loops are written as functions
+/// of restrict pointers and a range rather than as `omp parallel for` bodies: GCC does not
+/// vectorise an outlined parallel loop whose pointers come through the shared-data struct.)
+template <class Loop>
+int overRanges(std::size_t n, int threads, Loop&& loop) {
+  const int count = threads > 0 ? threads : omp_get_max_threads();
+  if (count == 1) return loop(std::size_t{0}, n);
+  int broken = 0;
+#pragma omp parallel num_threads(count) reduction(| : broken)
+  {
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t parts = static_cast<std::size_t>(omp_get_num_threads());
+    broken |= loop(n * t / parts, n * (t + 1) / parts);
   }
+  return broken;
 }
 
-/// Gear's corrector over n values; returns nonzero if a value it wrote is not finite.
+// A NaN or infinite value is caught in the loops that write the state: x·0 is NaN exactly for
+// NaN and ±∞, so `x * 0.0 != 0.0` (a quiet comparison) flags it, OR-ed over the loop. It checks
+// every value at no extra memory traffic, and an OR vectorises where a sum would not.
+
+/// Gear's predictor over [b, e); with x also the positions (translation), without only the
+/// velocity and its derivatives (rotation).
 template <bool kPositions>
-int gearCorrect(double* __restrict x, double* __restrict v, Derivatives& d,
-                const double* __restrict accel, std::size_t n, double dt, int threads) {
-  double* __restrict d2 = flat(d.d2);
-  double* __restrict d3 = flat(d.d3);
-  double* __restrict d4 = flat(d.d4);
-  double* __restrict d5 = flat(d.d5);
+int gearPredict(double* __restrict x, double* __restrict v, double* __restrict d2,
+                double* __restrict d3, double* __restrict d4, const double* __restrict d5,
+                double dt, std::size_t b, std::size_t e) {
+  const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
+  for (std::size_t k = b; k < e; ++k) {
+    const double a = d2[k], p3 = d3[k], p4 = d4[k], p5 = d5[k];
+    // Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!.
+    if constexpr (kPositions) x[k] += dt * (v[k] + h2 * (a + h3 * (p3 + h4 * (p4 + h5 * p5))));
+    v[k] += dt * (a + h2 * (p3 + h3 * (p4 + h4 * p5)));
+    d2[k] = a + dt * (p3 + h2 * (p4 + h3 * p5));
+    d3[k] = p3 + dt * (p4 + h2 * p5);
+    d4[k] = p4 + dt * p5;
+  }
+  return 0;
+}
+
+/// Gear's corrector over [b, e); nonzero if a value it wrote is not finite.
+template <bool kPositions>
+int gearCorrect(double* __restrict x, double* __restrict v, double* __restrict d2,
+                double* __restrict d3, double* __restrict d4, double* __restrict d5,
+                const double* __restrict accel, double dt, std::size_t b, std::size_t e) {
   // r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ k!/Δt^k.
   const double sx = Gear5::kC0 * dt * dt / 2.0, sv = Gear5::kC1 * dt / 2.0,
                s3 = Gear5::kC3 * 3.0 / dt, s4 = Gear5::kC4 * 12.0 / (dt * dt),
                s5 = Gear5::kC5 * 60.0 / (dt * dt * dt);
   int broken = 0;
-#pragma omp parallel for simd schedule(static) num_threads(threadCount(threads)) \
-    reduction(|                                                                  \
-              : broken)
-  for (std::size_t k = 0; k < n; ++k) {
+#pragma omp simd reduction(| : broken)
+  for (std::size_t k = b; k < e; ++k) {
     const double delta = accel[k] - d2[k];
     if constexpr (kPositions) {
       x[k] += sx * delta;
@@ -85,65 +88,79 @@ int gearCorrect(double* __restrict x, double* __restrict v, Derivatives& d,
   return broken;
 }
 
-}  // namespace
-
-void Gear5::predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,
-                    int threads) {
-  if (x) {
-    gearPredict<true>(flat(x), flat(v), d, 3 * v.size(), dt, threads);
-  } else {
-    gearPredict<false>(nullptr, flat(v), d, 3 * v.size(), dt, threads);
-  }
-}
-
-bool Gear5::correct(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d,
-                    const std::vector<Vec3>& accel, double dt, int threads) {
-  const int broken =
-      x ? gearCorrect<true>(flat(x), flat(v), d, flat(accel), 3 * v.size(), dt, threads)
-        : gearCorrect<false>(nullptr, flat(v), d, flat(accel), 3 * v.size(), dt, threads);
-  return broken == 0;
-}
-
-bool VelocityVerlet::drift(std::vector<Vec3>* positions, std::vector<Vec3>& velocities,
-                           const Derivatives& d, double dt, int threads) {
-  const std::size_t n = 3 * velocities.size();
-  double* __restrict x = flat(positions);
-  double* __restrict v = flat(velocities);
-  const double* __restrict a = flat(d.d2);
+/// Verlet's drift over [b, e): x += v Δt + a Δt²/2 (as two half kicks around the move), v += a Δt.
+template <bool kPositions>
+int verletDrift(double* __restrict x, double* __restrict v, const double* __restrict a, double dt,
+                std::size_t b, std::size_t e) {
   const double half = 0.5 * dt;
   int broken = 0;
-#pragma omp parallel for simd schedule(static) num_threads(threadCount(threads)) \
-    reduction(|                                                                  \
-              : broken)
-  for (std::size_t k = 0; k < n; ++k) {
+#pragma omp simd reduction(| : broken)
+  for (std::size_t k = b; k < e; ++k) {
     double vk = v[k] + half * a[k];
-    if (x) {
+    if constexpr (kPositions) {
       x[k] += dt * vk;
       broken |= x[k] * 0.0 != 0.0;
     }
     vk += half * a[k];
     v[k] = vk;
   }
-  return broken == 0;
+  return broken;
 }
 
-bool VelocityVerlet::kick(std::vector<Vec3>& velocities, Derivatives& d,
-                          const std::vector<Vec3>& accelerations, double dt, int threads) {
-  const std::size_t n = 3 * velocities.size();
-  double* __restrict v = flat(velocities);
-  double* __restrict a = flat(d.d2);
-  const double* __restrict accel = flat(accelerations);
+/// Verlet's kick over [b, e): v += (accel - a) Δt/2, a = accel.
+int verletKick(double* __restrict v, double* __restrict a, const double* __restrict accel,
+               double dt, std::size_t b, std::size_t e) {
   const double half = 0.5 * dt;
   int broken = 0;
-#pragma omp parallel for simd schedule(static) num_threads(threadCount(threads)) \
-    reduction(|                                                                  \
-              : broken)
-  for (std::size_t k = 0; k < n; ++k) {
+#pragma omp simd reduction(| : broken)
+  for (std::size_t k = b; k < e; ++k) {
     v[k] += half * (accel[k] - a[k]);
     a[k] = accel[k];
     broken |= v[k] * 0.0 != 0.0;
   }
-  return broken == 0;
+  return broken;
+}
+
+}  // namespace
+
+void Gear5::predict(std::vector<Vec3>* positions, std::vector<Vec3>& velocities, Derivatives& d,
+                    double dt, int threads) {
+  double *x = flat(positions), *v = flat(velocities);
+  double *d2 = flat(d.d2), *d3 = flat(d.d3), *d4 = flat(d.d4), *d5 = flat(d.d5);
+  overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
+    return x ? gearPredict<true>(x, v, d2, d3, d4, d5, dt, b, e)
+             : gearPredict<false>(nullptr, v, d2, d3, d4, d5, dt, b, e);
+  });
+}
+
+bool Gear5::correct(std::vector<Vec3>* positions, std::vector<Vec3>& velocities, Derivatives& d,
+                    const std::vector<Vec3>& accelerations, double dt, int threads) {
+  double *x = flat(positions), *v = flat(velocities);
+  double *d2 = flat(d.d2), *d3 = flat(d.d3), *d4 = flat(d.d4), *d5 = flat(d.d5);
+  const double* accel = flat(accelerations);
+  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
+           return x ? gearCorrect<true>(x, v, d2, d3, d4, d5, accel, dt, b, e)
+                    : gearCorrect<false>(nullptr, v, d2, d3, d4, d5, accel, dt, b, e);
+         }) == 0;
+}
+
+bool VelocityVerlet::drift(std::vector<Vec3>* positions, std::vector<Vec3>& velocities,
+                           const Derivatives& d, double dt, int threads) {
+  double *x = flat(positions), *v = flat(velocities);
+  const double* a = flat(d.d2);
+  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
+           return x ? verletDrift<true>(x, v, a, dt, b, e)
+                    : verletDrift<false>(nullptr, v, a, dt, b, e);
+         }) == 0;
+}
+
+bool VelocityVerlet::kick(std::vector<Vec3>& velocities, Derivatives& d,
+                          const std::vector<Vec3>& accelerations, double dt, int threads) {
+  double *v = flat(velocities), *a = flat(d.d2);
+  const double* accel = flat(accelerations);
+  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
+           return verletKick(v, a, accel, dt, b, e);
+         }) == 0;
 }
 
 }  // namespace granular
