@@ -16,9 +16,11 @@
 /// transient buffers of neighbour-list rebuilds included.
 ///
 /// Usage: granular_bench_scale [--n 1000,10000,...] [--settle S] [--steps T] [--layers L]
-///                             [--friction MU] [--integrator gear5|verlet] [--shuffle]
+///                             [--friction MU] [--integrator gear5|verlet]
+///                             [--shuffle | --cell-order]
 /// --shuffle puts the particles in a random order (seeded) instead of the packing's layer by
-/// layer order, to measure what a cache-unfriendly order costs.
+/// layer order, to measure what a cache-unfriendly order costs; --cell-order puts them in
+/// granular::spatialOrder's Morton cell order (0.07 m cells, a diameter).
 /// One process per size is best for the memory figure (the peak is per process):
 ///   for n in 1000 10000 100000 1000000; do granular_bench_scale --n $n; done
 #include <algorithm>
@@ -36,6 +38,7 @@
 #include "granular/packings.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
+#include "granular/spatial_order.hpp"
 
 namespace {
 
@@ -67,13 +70,15 @@ struct Options {
   double gap = 0.02;  // lattice gap of the packing (PackingLayout::gap)
   double friction = 0.3;
   granular::Integrator integrator = granular::Integrator::Gear5;
-  bool shuffle = false;  // random particle order instead of the packing's spatial order
+  bool shuffle = false;    // random particle order instead of the packing's layer order
+  bool cellOrder = false;  // Morton cell order (granular::spatialOrder) instead
 };
 
 [[noreturn]] void usage(const std::string& what) {
   std::cerr << "granular_bench_scale: " << what
             << "\nusage: granular_bench_scale [--n N1,N2,...] [--settle S] [--steps T] "
-               "[--layers L] [--gap G] [--friction MU] [--integrator gear5|verlet] [--shuffle]\n";
+               "[--layers L] [--gap G] [--friction MU] [--integrator gear5|verlet] [--shuffle | "
+               "--cell-order]\n";
   std::exit(2);
 }
 
@@ -92,6 +97,10 @@ Options parse(int argc, char** argv) {
     const std::string arg = argv[k];
     if (arg == "--shuffle") {
       o.shuffle = true;
+      continue;
+    }
+    if (arg == "--cell-order") {
+      o.cellOrder = true;
       continue;
     }
     if (k + 1 >= argc) usage("missing value after " + arg);
@@ -161,6 +170,9 @@ void runCase(long n, const Options& o) {
                                    granular::Material{}.density, kSeed, &box, layout);
 
   if (o.shuffle) shuffleParticles(particles);
+  if (o.cellOrder) {
+    particles = granular::reordered(particles, granular::spatialOrder(particles.position, 0.07));
+  }
 
   granular::SimulationConfig config;
   config.material.friction = o.friction;
@@ -220,7 +232,7 @@ void runCase(long n, const Options& o) {
                    per * static_cast<double>(sim.counters().neighbourPairs));
     }
     std::printf("| %ld%s | %d | %s | %.2g | %.3f | %.3g M | %.1f | %.2f | %lu | %.0f | %.0f s |\n",
-                n, o.shuffle ? " (shuffled)" : "", threads,
+                n, o.shuffle ? " (shuffled)" : (o.cellOrder ? " (cell order)" : ""), threads,
                 o.integrator == granular::Integrator::Gear5 ? "Gear5" : "Verlet", o.friction,
                 1e3 * wall / static_cast<double>(steps), particleSteps / wall / 1e6,
                 1e9 * wall / particleSteps, contacts / particleSteps,

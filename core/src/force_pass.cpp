@@ -338,52 +338,81 @@ void forcePass(SimulationState& s, double dt, int threads) {
       out.blockPowers[b] = powers;
     }
   }
-  // (b) Wall contacts (few).
-  ContactPowers powers;
-  for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
+  // (b) Wall contacts, in blocks of candidates per wall; each block sums its powers and its
+  // push on the wall in order, and the blocks are summed in order (thread-count independent).
   if constexpr (!kDirect) {
     out.wallForce.resize(s.walls.size());
     out.wallTorque.resize(s.walls.size());
   }
-  ContactChunk chunk;
+  out.wallBlocks.clear();
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
-    const Wall& wall = s.walls[w];
     const std::size_t candidates = list.wallParticles[w].size();
     if constexpr (!kDirect) {
-      out.wallForce[w].assign(candidates, Vec3::Zero());
-      if constexpr (kFriction) out.wallTorque[w].assign(candidates, Vec3::Zero());
+      resizeScratch(out.wallForce[w], candidates);
+      if constexpr (kFriction) resizeScratch(out.wallTorque[w], candidates);
     }
-    Vec3 reaction = Vec3::Zero();
-    for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
-      const std::size_t count = std::min(kChunk, candidates - begin);
-      const std::size_t m = pickTouchingWallContacts(p, list, wall, w, begin, count, chunk);
-      loadWallContacts<kFriction>(p, list, wall, w, chunk, m);
-      kern.law(c, chunk, m, kFriction, kLaw, true);
-      addChunkPowers<kFriction>(chunk, m, powers);
-      powers.wallContacts += m;
-      for (std::size_t e = 0; e < m; ++e) {
-        const std::uint32_t k = chunk.slot[e];
-        const Vec3 f = forceOf(chunk, e);
-        // d_ci × F on the particle, d_ci = a n.
-        const Vec3 torque =
-            kFriction ? Vec3(chunk.armI[e] * normalOf(chunk, e).cross(f)) : Vec3(Vec3::Zero());
-        if constexpr (kDirect) {
-          const std::uint32_t i = list.wallParticles[w][k];
-          s.force[i] += f;
-          if constexpr (kFriction) s.torque[i] += torque;
-        } else {
-          out.wallForce[w][k] = f;
-          if constexpr (kFriction) out.wallTorque[w][k] = torque;
+    for (std::size_t begin = 0; begin < candidates; begin += kBlock) {
+      out.wallBlocks.push_back({static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(begin),
+                                static_cast<std::uint32_t>(std::min(candidates, begin + kBlock))});
+    }
+  }
+  const std::size_t wallBlocks = out.wallBlocks.size();
+  out.wallBlockPowers.assign(wallBlocks, ContactPowers{});
+  out.wallBlockReaction.assign(wallBlocks, Vec3::Zero());
+#pragma omp parallel num_threads(kDirect ? 1 : threads)
+  {
+    ContactChunk chunk;
+#pragma omp for schedule(static)
+    for (std::size_t b = 0; b < wallBlocks; ++b) {
+      const auto [w, blockBegin, blockEnd] = out.wallBlocks[b];
+      const Wall& wall = s.walls[w];
+      ContactPowers powers;
+      Vec3 reaction = Vec3::Zero();
+      for (std::size_t begin = blockBegin; begin < blockEnd; begin += kChunk) {
+        const std::size_t count = std::min<std::size_t>(kChunk, blockEnd - begin);
+        const std::size_t m = pickTouchingWallContacts(p, list, wall, w, begin, count, chunk);
+        loadWallContacts<kFriction>(p, list, wall, w, chunk, m);
+        kern.law(c, chunk, m, kFriction, kLaw, true);
+        addChunkPowers<kFriction>(chunk, m, powers);
+        powers.wallContacts += m;
+        if constexpr (!kDirect) {
+          std::fill_n(out.wallForce[w].begin() + begin, count, Vec3::Zero());
+          if constexpr (kFriction) {
+            std::fill_n(out.wallTorque[w].begin() + begin, count, Vec3::Zero());
+          }
         }
-        powers.wallPower += f.dot(wall.velocity);
-        reaction -= f;
+        for (std::size_t e = 0; e < m; ++e) {
+          const std::uint32_t k = chunk.slot[e];
+          const Vec3 f = forceOf(chunk, e);
+          // d_ci × F on the particle, d_ci = a n.
+          const Vec3 torque =
+              kFriction ? Vec3(chunk.armI[e] * normalOf(chunk, e).cross(f)) : Vec3(Vec3::Zero());
+          if constexpr (kDirect) {
+            const std::uint32_t i = list.wallParticles[w][k];
+            s.force[i] += f;
+            if constexpr (kFriction) s.torque[i] += torque;
+          } else {
+            out.wallForce[w][k] = f;
+            if constexpr (kFriction) out.wallTorque[w][k] = torque;
+          }
+          powers.wallPower += f.dot(wall.velocity);
+          reaction -= f;
+        }
+        if constexpr (kFriction) {
+          std::fill_n(list.wallHistory[w].begin() + begin, count, TangentialHistory{});
+          storeSprings(chunk, m, list.wallHistory[w].data());
+        }
       }
-      if constexpr (kFriction) {
-        std::fill_n(list.wallHistory[w].begin() + begin, count, TangentialHistory{});
-        storeSprings(chunk, m, list.wallHistory[w].data());
-      }
+      out.wallBlockPowers[b] = powers;
+      out.wallBlockReaction[b] = reaction;
     }
-    s.walls[w].reaction = reaction;
+  }
+  ContactPowers powers;
+  for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
+  for (const ContactPowers& part : out.wallBlockPowers) addPowers(powers, part);
+  for (Wall& wall : s.walls) wall.reaction = Vec3::Zero();
+  for (std::size_t b = 0; b < wallBlocks; ++b) {
+    s.walls[out.wallBlocks[b].wall].reaction += out.wallBlockReaction[b];
   }
   s.powers = powers;
   if constexpr (kDirect) return;

@@ -105,7 +105,14 @@ struct ContactScratch {
   std::vector<Vec3> pairMoment;
   std::vector<double> pairOverlap;
   std::vector<std::vector<Vec3>> wallForce, wallTorque;
-  std::vector<ContactPowers> blockPowers;
+  std::vector<ContactPowers> blockPowers;  ///< per block of particle pairs
+  /// Wall candidates in blocks [begin, end) of one wall, with each block's powers and push.
+  struct WallBlock {
+    std::uint32_t wall, begin, end;
+  };
+  std::vector<WallBlock> wallBlocks;
+  std::vector<ContactPowers> wallBlockPowers;
+  std::vector<Vec3> wallBlockReaction;
 };
 
 struct EnergyAccumulators {
