@@ -78,6 +78,28 @@ TEST(Simulation, WallContactsInSeveralBlocksDoNotDependOnTheThreadCount) {
   }
 }
 
+TEST(Simulation, TheSkinChangesTheWorkNotTheResult) {
+  // The skin only decides how many candidates the list holds and how often it is rebuilt: the
+  // touching pairs, their order and their springs are the same, so the state is the same bits.
+  for (int threads : {1, 2}) {
+    SimulationConfig cfg = frictional(Integrator::Gear5);
+    cfg.threads = threads;
+    Simulation wide = fallingGrid(4, 4, 4, cfg, 0.3, 11);
+    Simulation thin = fallingGrid(4, 4, 4, cfg, 0.3, 11);
+    thin.setSkin(0.002);
+    EXPECT_EQ(thin.skin(), 0.002);
+    EXPECT_NEAR(wide.skin(), 0.009, 0.0002);  // the default: 0.3 × the smallest radius (≈ 0.03 m)
+    wide.run(3000);
+    thin.run(3000);
+    EXPECT_GT(thin.counters().rebuilds, wide.counters().rebuilds);
+    EXPECT_LT(thin.counters().neighbourPairs, wide.counters().neighbourPairs);
+    EXPECT_EQ(thin.stateHash(), wide.stateHash()) << threads << " threads";
+  }
+  Simulation sim = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
+  EXPECT_THROW(sim.setSkin(-0.001), ConfigError);
+  EXPECT_THROW(sim.setSkin(std::nan("")), ConfigError);
+}
+
 TEST(Simulation, ContactHistorySurvivesNeighbourListRebuilds) {
   // Rebuilding every step must give the very same trajectory as rebuilding on the skin
   // criterion: the tangential springs are carried across rebuilds, not restarted.

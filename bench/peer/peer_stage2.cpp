@@ -1,7 +1,8 @@
 /// granular_peer_stage2: the paper's stage 2 (compaction by the moving top wall) from the settled
 /// checkpoint, timed, for the side-by-side benchmark against LAMMPS and LIGGGHTS (bench/peer/).
 ///
-///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--threads N] [--duration S]
+///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--skin M] [--threads N]
+///                        [--duration S]
 ///                        [--fresh [--integrator gear5|verlet]] [--series FILE]
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--export-lammps DIR]
 ///                        [--export-liggghts DIR] [--radius-types K] [--mean-wall-stiffness]
@@ -36,6 +37,7 @@ struct Options {
   std::filesystem::path checkpoint = "runs/paper/mu03/settled.ckpt";
   std::filesystem::path scene = "assets/scenes/paper-mu03.toml";
   std::optional<double> dt;
+  std::optional<double> skin;
   int threads = 1;
   std::optional<double> duration;
   bool fresh = false;
@@ -134,6 +136,7 @@ int run(const Options& o) {
   }
   Simulation sim = o.fresh ? withoutHistory(settled, o.integrator) : std::move(settled);
   if (o.dt) sim.setTimeStep(*o.dt);
+  if (o.skin) sim.setSkin(*o.skin);
   sim.setThreads(o.threads);
 
   std::ofstream series;
@@ -169,6 +172,7 @@ int run(const Options& o) {
   std::printf("particles = %.0f\n", n);
   std::printf("dt_s = %.9g\n", sim.config().timeStep);
   std::printf("threads = %d\n", o.threads);
+  std::printf("skin_m = %.6g\n", sim.skin());
   std::printf("steps = %llu\n", static_cast<unsigned long long>(result.steps));
   std::printf("simulated_s = %.9g\n", result.duration);
   std::printf("wall_s = %.6f\n", wall);
@@ -190,6 +194,9 @@ int main(int argc, char** argv) {
   app.add_option("--scene", o.scene,
                  "Scene of the checkpoint (default assets/scenes/paper-mu03.toml)");
   app.add_option("--dt", o.dt, "Time step [s] (default: the scene's)");
+  app.add_option("--skin", o.skin,
+                 "Neighbour-list skin [m] (default: the checkpoint's; 0 = 0.3 x smallest radius)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--threads", o.threads, "OpenMP threads (default 1)");
   app.add_option("--duration", o.duration, "Stage-2 duration [s] (default: the scene's, 1 s)");
   app.add_flag("--fresh", o.fresh,

@@ -39,7 +39,7 @@ while [[ $# -gt 0 ]]; do
 done
 
 DT=1.7e-4        # the paper scene's step [s]
-SKIN=0.003       # peers' neighbour skin [m]; LAMMPS timings barely change over 0.001-0.009 m
+SKIN=0.003       # neighbour skin of every code [m]; LAMMPS timings barely change over 0.001-0.009 m
 if [[ $QUICK == 1 ]]; then
   TEND=0.2; REF=0.5; FACTORS="1 2 4"; REPS=1
 else
@@ -92,9 +92,11 @@ run_code() {
   case "$code" in
     granular-gear5|granular-verlet)
       "$BIN" "${G[@]}" --fresh --integrator "${code#granular-}" --threads "$threads" --dt "$dt" \
+        --skin "$SKIN" \
         --duration "$TEND" "${series[@]}" ;;
     granular-history)  # the real paper run: contact history and Gear derivatives kept
-      "$BIN" "${G[@]}" --threads "$threads" --dt "$dt" --duration "$TEND" "${series[@]}" ;;
+      "$BIN" "${G[@]}" --threads "$threads" --dt "$dt" --skin "$SKIN" --duration "$TEND" \
+        "${series[@]}" ;;
     lammps|lammps-meanwall)
       OMP_NUM_THREADS=1 "${mpi[@]}" lmp -in "$ROOT/bench/peer/stage2.lmp" -log none \
         -var dir "$OUT/export/$code" -var dt "$dt" -var tend "$TEND" -var skin "$SKIN" \

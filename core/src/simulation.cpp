@@ -334,6 +334,18 @@ const StepCounters& Simulation::counters() const {
 void Simulation::setRebuildEveryStep(bool on) {
   state_->rebuildEveryStep = on;
 }
+void Simulation::setSkin(double skin) {
+  require(std::isfinite(skin) && skin >= 0, "skin = " + str(skin) + " m: must be >= 0");
+  SimulationState& s = *state_;
+  const Particles& p = s.particles;
+  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+  s.config.skin = skin;
+  s.neighbours.skin = skin > 0 ? skin : 0.3 * rMin;
+  s.neighbours.valid = false;  // rebuilt (history kept) at the next step
+}
+double Simulation::skin() const {
+  return state_->neighbours.skin;
+}
 Vec3 Simulation::acceleration(std::size_t i) const {
   return state_->translation.d2.at(i);
 }

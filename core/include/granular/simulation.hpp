@@ -163,6 +163,11 @@ class Simulation {
 
   /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
   void setRebuildEveryStep(bool on);
+  /// Neighbour-list skin [m] (>= 0; 0 picks 0.3 × the smallest radius). A performance knob
+  /// only: the list is rebuilt at the next step with the contact history kept, and the contact
+  /// forces do not depend on it (tests/test_simulation.cpp).
+  void setSkin(double skin);
+  double skin() const;  ///< the skin in use [m]
 
   /// Memory held by the state's arrays [B].
   MemoryUse memoryUse() const;
