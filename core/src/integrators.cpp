@@ -5,10 +5,6 @@
 namespace granular {
 namespace {
 
-/// A Vec3 array as its 3n doubles: the loops below act on each component alike, and over a flat
-/// array the compiler vectorises them without shuffling x, y, z. Eigen stores a Vector3d as
-/// three contiguous doubles with no padding.
-static_assert(sizeof(Vec3) == 3 * sizeof(double));
 inline double* flat(std::vector<Vec3>& v) {
   return v.empty() ? nullptr : v.front().data();
 }
@@ -17,25 +13,6 @@ inline const double* flat(const std::vector<Vec3>& v) {
 }
 inline double* flat(std::vector<Vec3>* v) {
   return v ? flat(*v) : nullptr;
-}
-
-/// Runs `loop(begin, end)` over [0, n) split into one contiguous range per thread and ORs what
-/// the ranges return. Every value is computed alone, so the split does not change the bits. One
-/// thread runs the loop in place, with no parallel region. (The loops are written as functions
-/// of restrict pointers and a range rather than as `omp parallel for` bodies: GCC does not
-/// vectorise an outlined parallel loop whose pointers come through the shared-data struct.)
-template <class Loop>
-int overRanges(std::size_t n, int threads, Loop&& loop) {
-  const int count = threads > 0 ? threads : omp_get_max_threads();
-  if (count == 1) return loop(std::size_t{0}, n);
-  int broken = 0;
-#pragma omp parallel num_threads(count) reduction(| : broken)
-  {
-    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
-    const std::size_t parts = static_cast<std::size_t>(omp_get_num_threads());
-    broken |= loop(n * t / parts, n * (t + 1) / parts);
-  }
-  return broken;
 }
 
 // A NaN or infinite value is caught in the loops that write the state: x·0 is NaN exactly for
@@ -123,43 +100,73 @@ int verletKick(double* __restrict v, double* __restrict a, const double* __restr
 
 }  // namespace
 
-void Gear5::predict(std::vector<Vec3>* positions, std::vector<Vec3>& velocities, Derivatives& d,
-                    double dt, int threads) {
-  double *x = flat(positions), *v = flat(velocities);
-  double *d2 = flat(d.d2), *d3 = flat(d.d3), *d4 = flat(d.d4), *d5 = flat(d.d5);
-  overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
-    return x ? gearPredict<true>(x, v, d2, d3, d4, d5, dt, b, e)
-             : gearPredict<false>(nullptr, v, d2, d3, d4, d5, dt, b, e);
-  });
+int overRanges(std::size_t n, int threads,
+               const std::function<int(std::size_t, std::size_t)>& loop) {
+  const int count = threads > 0 ? threads : omp_get_max_threads();
+  if (count == 1) return loop(std::size_t{0}, n);
+  int broken = 0;
+#pragma omp parallel num_threads(count) reduction(| : broken)
+  {
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+    const std::size_t parts = static_cast<std::size_t>(omp_get_num_threads());
+    broken |= loop(n * t / parts, n * (t + 1) / parts);
+  }
+  return broken;
 }
 
-bool Gear5::correct(std::vector<Vec3>* positions, std::vector<Vec3>& velocities, Derivatives& d,
-                    const std::vector<Vec3>& accelerations, double dt, int threads) {
-  double *x = flat(positions), *v = flat(velocities);
-  double *d2 = flat(d.d2), *d3 = flat(d.d3), *d4 = flat(d.d4), *d5 = flat(d.d5);
-  const double* accel = flat(accelerations);
-  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
-           return x ? gearCorrect<true>(x, v, d2, d3, d4, d5, accel, dt, b, e)
-                    : gearCorrect<false>(nullptr, v, d2, d3, d4, d5, accel, dt, b, e);
+FlatMotion FlatMotion::of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d) {
+  return {flat(x), flat(v), flat(d.d2), flat(d.d3), flat(d.d4), flat(d.d5)};
+}
+
+int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+  return m.x ? gearPredict<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e)
+             : gearPredict<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e);
+}
+
+int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                     std::size_t e) {
+  return m.x ? gearCorrect<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
+             : gearCorrect<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
+}
+
+int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+  return m.x ? verletDrift<true>(m.x, m.v, m.d2, dt, b, e)
+             : verletDrift<false>(nullptr, m.v, m.d2, dt, b, e);
+}
+
+int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                    std::size_t e) {
+  return verletKick(m.v, m.d2, accel, dt, b, e);
+}
+
+void Gear5::predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,
+                    int threads) {
+  const FlatMotion m = FlatMotion::of(x, v, d);
+  overRanges(3 * v.size(), threads,
+             [&](std::size_t b, std::size_t e) { return gearPredictRange(m, dt, b, e); });
+}
+
+bool Gear5::correct(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d,
+                    const std::vector<Vec3>& accel, double dt, int threads) {
+  const FlatMotion m = FlatMotion::of(x, v, d);
+  return overRanges(3 * v.size(), threads, [&](std::size_t b, std::size_t e) {
+           return gearCorrectRange(m, flat(accel), dt, b, e);
          }) == 0;
 }
 
-bool VelocityVerlet::drift(std::vector<Vec3>* positions, std::vector<Vec3>& velocities,
-                           const Derivatives& d, double dt, int threads) {
-  double *x = flat(positions), *v = flat(velocities);
-  const double* a = flat(d.d2);
-  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
-           return x ? verletDrift<true>(x, v, a, dt, b, e)
-                    : verletDrift<false>(nullptr, v, a, dt, b, e);
+bool VelocityVerlet::drift(std::vector<Vec3>* x, std::vector<Vec3>& v, const Derivatives& d,
+                           double dt, int threads) {
+  const FlatMotion m = FlatMotion::of(x, v, const_cast<Derivatives&>(d));  // d is only read
+  return overRanges(3 * v.size(), threads, [&](std::size_t b, std::size_t e) {
+           return verletDriftRange(m, dt, b, e);
          }) == 0;
 }
 
-bool VelocityVerlet::kick(std::vector<Vec3>& velocities, Derivatives& d,
-                          const std::vector<Vec3>& accelerations, double dt, int threads) {
-  double *v = flat(velocities), *a = flat(d.d2);
-  const double* accel = flat(accelerations);
-  return overRanges(3 * velocities.size(), threads, [&](std::size_t b, std::size_t e) {
-           return verletKick(v, a, accel, dt, b, e);
+bool VelocityVerlet::kick(std::vector<Vec3>& v, Derivatives& d, const std::vector<Vec3>& accel,
+                          double dt, int threads) {
+  const FlatMotion m = FlatMotion::of(nullptr, v, d);
+  return overRanges(3 * v.size(), threads, [&](std::size_t b, std::size_t e) {
+           return verletKickRange(m, flat(accel), dt, b, e);
          }) == 0;
 }
 

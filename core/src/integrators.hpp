@@ -2,11 +2,40 @@
 /// Time integrators acting on (position, velocity, Derivatives) triples; they know nothing of
 /// contacts. Used for translation (x, v) and rotation (ω only: a null `x` skips the positions,
 /// since a sphere's orientation feeds back into nothing).
+#include <functional>
 #include <vector>
 
 #include "simulation_state.hpp"
 
 namespace granular {
+
+/// One kind of motion as flat arrays of 3n doubles: x (null for rotation, whose "position" is
+/// not kept), v and the derivatives (d3..d5 null for Verlet). Eigen stores a Vector3d as three
+/// contiguous doubles, so a std::vector<Vec3> is such an array; over it the loops below
+/// vectorise without shuffling x, y, z.
+struct FlatMotion {
+  double* x = nullptr;
+  double* v = nullptr;
+  double *d2 = nullptr, *d3 = nullptr, *d4 = nullptr, *d5 = nullptr;
+  static FlatMotion of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d);
+};
+
+/// The integrators' loops over the values [b, e) of a motion (3 per particle). Each value is
+/// computed alone, so any split into ranges gives the same bits; each returns nonzero if a value
+/// it wrote is not finite (x·0 != 0 flags NaN and ±∞ in the same pass).
+int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e);
+int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                     std::size_t e);
+int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e);
+int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                    std::size_t e);
+
+/// Runs `loop(begin, end)` over [0, n) split into one contiguous range per thread (0: OpenMP's
+/// default count) and ORs what the ranges return; one thread runs it in place, with no parallel
+/// region. The loops are functions of a range rather than `omp parallel for` bodies because GCC
+/// does not vectorise an outlined parallel loop whose pointers come through OpenMP's shared data.
+int overRanges(std::size_t n, int threads,
+               const std::function<int(std::size_t, std::size_t)>& loop);
 
 /// Gear's 6-value (5th-order) predictor-corrector for x'' = f(x, x').
 ///

@@ -236,15 +236,21 @@ void Simulation::step() {
   const std::size_t n = p.size();
   const int threads = s.config.threads;
 
-  // 1. Predict.
-  bool driftedFinite = true;
-  if (gear) {
-    Gear5::predict(&p.position, p.velocity, s.translation, dt, threads);
-    if (s.frictional) Gear5::predict(nullptr, p.angularVelocity, s.rotation, dt, threads);
-  } else {
-    driftedFinite = VelocityVerlet::drift(&p.position, p.velocity, s.translation, dt, threads);
-    if (s.frictional) VelocityVerlet::drift(nullptr, p.angularVelocity, s.rotation, dt, threads);
-  }
+  // 1. Predict, translation and rotation in one pass over particle ranges.
+  const FlatMotion move = FlatMotion::of(&p.position, p.velocity, s.translation);
+  const FlatMotion turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
+  const bool rotating = s.frictional;
+  auto predict = [&](std::size_t b, std::size_t e) {
+    if (gear) {
+      gearPredictRange(move, dt, 3 * b, 3 * e);
+      if (rotating) gearPredictRange(turn, dt, 3 * b, 3 * e);
+      return 0;
+    }
+    int broken = verletDriftRange(move, dt, 3 * b, 3 * e);
+    if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
+    return broken;
+  };
+  const bool driftedFinite = overRanges(n, threads, predict) == 0;
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
   ++s.stepsSinceOrigin;
@@ -257,28 +263,28 @@ void Simulation::step() {
   // 4. Forces.
   const ContactPowers before = s.powers;
   computeContactForces(s, dt);
-  // 5. Accelerations (reusing the force arrays: they are not needed after this pass).
+  // 5-6. Accelerations (into the force arrays: they are not needed after this) and the
+  // corrector, in one pass over particle ranges: a particle's correction needs only its own
+  // acceleration.
   const Vec3 g = s.config.gravity;
-  const bool rotating = s.frictional;
-#pragma omp parallel for schedule(static) num_threads(threads > 0 ? threads : omp_get_max_threads())
-  for (std::size_t i = 0; i < n; ++i) {
-    s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
-    if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
-  }
-  // 6. Correct, noting whether every position and velocity is still a number.
-  bool finite = true;
-  if (gear) {
-    finite = Gear5::correct(&p.position, p.velocity, s.translation, s.force, dt, threads);
-    if (s.frictional) {
-      finite &= Gear5::correct(nullptr, p.angularVelocity, s.rotation, s.torque, dt, threads);
+  const double* accel = s.force.front().data();
+  const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
+  auto correct = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
+      if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
     }
-  } else {
-    finite = driftedFinite;
-    finite &= VelocityVerlet::kick(p.velocity, s.translation, s.force, dt, threads);
-    if (s.frictional) {
-      finite &= VelocityVerlet::kick(p.angularVelocity, s.rotation, s.torque, dt, threads);
+    int broken = 0;
+    if (gear) {
+      broken |= gearCorrectRange(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) broken |= gearCorrectRange(turn, angularAccel, dt, 3 * b, 3 * e);
+    } else {
+      broken |= verletKickRange(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) broken |= verletKickRange(turn, angularAccel, dt, 3 * b, 3 * e);
     }
-  }
+    return broken;
+  };
+  const bool finite = overRanges(n, threads, correct) == 0 && driftedFinite;
   if (!finite) reportBrokenState(s);
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;
