@@ -57,6 +57,22 @@ TEST(Simulation, ResultsDoNotDependOnTheThreadCount) {
   }
 }
 
+TEST(Simulation, ChangingTheThreadCountMidRunKeepsTheBits) {
+  // One thread adds contacts directly and never builds the gather's index; switching to two
+  // threads after list rebuilds must build it for the current list, not use a stale one.
+  SimulationConfig cfg = frictional(Integrator::Gear5);
+  cfg.threads = 1;
+  Simulation steady = fallingGrid(4, 4, 4, cfg, 0.3, 11);
+  Simulation switching = fallingGrid(4, 4, 4, cfg, 0.3, 11);
+  steady.run(3000);
+  for (int threads : {1, 2, 1, 2, 3, 1}) {
+    switching.setThreads(threads);
+    switching.run(500);
+  }
+  EXPECT_GT(switching.counters().rebuilds, 5u);
+  EXPECT_EQ(switching.stateHash(), steady.stateHash());
+}
+
 TEST(Simulation, WallContactsInSeveralBlocksDoNotDependOnTheThreadCount) {
   // 24 × 24 particles in one layer land on the floor: 576 floor candidates, two blocks of 512,
   // so the floor is split between the threads, each block writing its own contacts' slots.

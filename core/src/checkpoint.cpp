@@ -309,7 +309,7 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   if (version >= 3) r(appData);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
-  buildContactIndex(state->neighbours, state->particles.size());
+  state->neighbours.index.valid = false;  // derived data: built when a force pass needs it
   return {SimulationAccess::make(std::move(state)), std::move(appData)};
 }
 

@@ -418,6 +418,7 @@ void forcePass(SimulationState& s, double dt, int threads) {
   if constexpr (kDirect) return;
 
   // (c) Each particle gathers its slots, in the order stated above.
+  if (!list.index.valid) buildContactIndex(list, n);
   const ContactIndex& index = list.index;
   s.force.resize(n);
   if constexpr (kFriction) s.torque.resize(n);

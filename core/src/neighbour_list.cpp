@@ -198,7 +198,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   list.referenceWallPoint.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallPoint[w] = walls[w].point;
   list.valid = true;
-  buildContactIndex(list, n);
+  list.index.valid = false;  // built when a multi-thread force pass needs it
 }
 
 void buildContactIndex(NeighbourList& list, std::size_t n) {
@@ -232,6 +232,7 @@ void buildContactIndex(NeighbourList& list, std::size_t n) {
       x.wallContacts[fill[i]++] = {static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(k)};
     }
   }
+  x.valid = true;
 }
 
 // ---- Staleness ----------------------------------------------------------------------------

@@ -27,6 +27,9 @@ struct TangentialHistory {
 struct ContactIndex {
   std::vector<std::uint32_t> firstStart, secondStart, secondPairs, wallStart;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> wallContacts;
+  /// Built for the current lists. Only the multi-thread force pass reads the index, so a list
+  /// rebuild marks it stale and that pass builds it: one thread never allocates it.
+  bool valid = false;
 };
 
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
@@ -43,7 +46,7 @@ struct NeighbourList {
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
   double skin = 0.0;                     ///< [m]
   bool valid = false;
-  ContactIndex index;  ///< derived from the lists (not checkpointed: rebuilt on load)
+  ContactIndex index;  ///< derived from the lists (not checkpointed), built on demand
 };
 
 /// Rebuilds list.index from the pair and wall lists for n particles.
