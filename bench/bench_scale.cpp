@@ -25,6 +25,8 @@
 /// granular::spatialOrder's Morton cell order (0.07 m cells, a diameter).
 /// One process per size is best for the memory figure (the peak is per process):
 ///   for n in 1000 10000 100000 1000000; do granular_bench_scale --n $n; done
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -201,11 +203,14 @@ void runCase(long n, const Options& o) {
   std::fill(particles.angularVelocity.begin(), particles.angularVelocity.end(),
             granular::Vec3::Zero());
   const double settleSeconds = seconds(settleStart);
+  config.threads = 1;  // the timed runs set their count; built on one, nothing is allocated
+                       // for two threads before the 2-thread row
   granular::Simulation sim(std::move(particles), granular::buildWalls(box), config);
   // The peak so far is the settling run's (two threads, so with the force pass's per-contact
   // slots): start the count afresh (Linux: "5" to clear_refs resets VmHWM to the current set),
   // so that the 1-thread row shows what a 1-thread run needs and the 2-thread row what the
   // slots add.
+  malloc_trim(0);  // hand the settling run's freed heap back first (glibc keeps it otherwise)
   std::ofstream("/proc/self/clear_refs") << "5";
 
   const long steps =

@@ -267,7 +267,9 @@ def main():
             if not series or "top_z_m" not in keys:
                 with open(out) as f:
                     text = f.read()
-                reason = "refused" if "above the limit" in text else "failed (unstable)"
+                # granular refuses a step above its integrator's limit before running
+                refused = re.search(r"above the (stable )?limit", text)
+                reason = "refused (step limit)" if refused else "failed (unstable)"
                 print(f"| {code} | {factor:g} | {dt:.3g} | - | {reason} | no | - |")
                 continue
             run = windows(read_series(series), dt, args.interval, tend)
