@@ -136,6 +136,14 @@ inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourL
   return m;
 }
 
+/// Copies a contact's stored tangential spring into entry e of the chunk.
+inline void loadSpring(const TangentialHistory& spring, ContactChunk& c, std::size_t e) {
+  c.sx[e] = spring.stretch.x();
+  c.sy[e] = spring.stretch.y();
+  c.sz[e] = spring.stretch.z();
+  c.stiffness[e] = spring.stiffness;
+}
+
 /// Copies the m picked pairs into the chunk (their geometry is computed next, by the kernel).
 template <bool kFriction>
 void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
@@ -163,11 +171,7 @@ void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, s
       c.wjx[e] = wj.x();
       c.wjy[e] = wj.y();
       c.wjz[e] = wj.z();
-      const TangentialHistory& spring = list.history[k];
-      c.sx[e] = spring.stretch.x();
-      c.sy[e] = spring.stretch.y();
-      c.sz[e] = spring.stretch.z();
-      c.stiffness[e] = spring.stiffness;
+      loadSpring(list.history[k], c, e);
     }
   }
 }
@@ -200,11 +204,7 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const Wall&
       c.cx[e] = contactVelocity.x();
       c.cy[e] = contactVelocity.y();
       c.cz[e] = contactVelocity.z();
-      const TangentialHistory& spring = list.wallHistory[w][k];
-      c.sx[e] = spring.stretch.x();
-      c.sy[e] = spring.stretch.y();
-      c.sz[e] = spring.stretch.z();
-      c.stiffness[e] = spring.stiffness;
+      loadSpring(list.wallHistory[w][k], c, e);
     }
   }
 }
