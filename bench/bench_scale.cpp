@@ -236,12 +236,12 @@ void runCase(long n, const Options& o) {
       std::fprintf(stderr,
                    "n = %ld, %d thread(s): arrays %.0f B/particle = particles %.0f + integrator "
                    "%.0f + "
-                   "neighbour list %.0f + history %.0f + contact index %.0f + force scratch "
+                   "neighbour list %.0f + history %.0f + force plan %.0f + force scratch "
                    "%.0f; neighbour pairs %.2f/particle\n",
                    n, threads, per * static_cast<double>(m.total()),
                    per * static_cast<double>(m.particles), per * static_cast<double>(m.integrator),
                    per * static_cast<double>(m.neighbours), per * static_cast<double>(m.history),
-                   per * static_cast<double>(m.contactIndex), per * static_cast<double>(m.scratch),
+                   per * static_cast<double>(m.forcePlan), per * static_cast<double>(m.scratch),
                    per * static_cast<double>(sim.counters().neighbourPairs));
     }
     std::printf("| %ld%s | %d | %s | %.2g | %.3f | %.3g M | %.1f | %.2f | %lu | %.0f | %.0f s |\n",

@@ -725,7 +725,7 @@ TEST(HardCase, MillionParticleMemoryPerParticle) {
   EXPECT_EQ(sim.counters().neighbourPairs, 3u * side * side * (side - 1));
   EXPECT_LE(double(use.total()) / double(n), 400.0)
       << "particles " << use.particles << ", integrator " << use.integrator << ", neighbours "
-      << use.neighbours << ", contact index " << use.contactIndex << ", scratch " << use.scratch;
+      << use.neighbours << ", force plan " << use.forcePlan << ", scratch " << use.scratch;
   RecordProperty("seconds", std::to_string(seconds));
   RecordProperty("bytesPerParticle", std::to_string(double(use.total()) / double(n)));
 }

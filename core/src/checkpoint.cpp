@@ -309,7 +309,7 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   if (version >= 3) r(appData);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
-  state->neighbours.index.valid = false;  // derived data: built when a force pass needs it
+  state->neighbours.plan.valid = false;  // derived data: built by the next force pass
   return {SimulationAccess::make(std::move(state)), std::move(appData)};
 }
 

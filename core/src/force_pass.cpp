@@ -6,11 +6,11 @@
 /// (contact_law.hpp); 2. the hot pass, parallel and deterministic; 3. the measuring pass that
 /// visits every contact; 4. dispatch.
 ///
-/// On several threads the hot pass runs in two phases so that no two threads add to the same
-/// particle: (a) every contact's force is computed into its own slot (pairs in fixed blocks,
-/// powers summed per block in order); (b) each particle gathers its contacts' forces in a fixed
-/// order. On one thread each contact adds to its particles directly, in that same order, so
-/// the result does not depend on the thread count, bit for bit.
+/// On several threads each thread owns a run of particles and adds their contacts' forces
+/// straight to them; the few pairs that straddle two threads are computed once more, before,
+/// into slots the second particle's thread adds (ForcePlan in simulation_state.hpp). Every
+/// particle receives its contacts in the same order for any thread count, and the sums run in
+/// fixed blocks, so the result does not depend on the thread count, bit for bit.
 #include <omp.h>
 
 #include <algorithm>
@@ -122,15 +122,17 @@ inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& li
   return m;
 }
 
-/// Same for wall w's candidates: touching when the overlap R_i - distance is positive.
+/// Appends the touching ones among wall w's candidates [begin, begin + count) to the chunk's m
+/// entries (slot: candidate, wall: w); returns the new count. Touching when the overlap
+/// R_i - distance is positive.
 inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourList& list,
                                             const Wall& wall, std::size_t w, std::size_t begin,
-                                            std::size_t count, ContactChunk& c) {
-  std::size_t m = 0;
+                                            std::size_t count, ContactChunk& c, std::size_t m = 0) {
   for (std::size_t k = begin; k < begin + count; ++k) {
     const std::uint32_t i = list.wallParticles[w][k];
     const double distance = (p.position[i] - wall.point).dot(wall.normal);
     c.slot[m] = static_cast<std::uint32_t>(k);
+    c.wall[m] = static_cast<std::uint32_t>(w);
     m += p.radius[i] - distance > 0.0 ? 1 : 0;
   }
   return m;
@@ -176,15 +178,16 @@ void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, s
   }
 }
 
-/// Copies the m picked contacts of wall w into the chunk with their geometry: the wall is a
-/// body of infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed
-/// velocity; n points from the particle towards the wall.
+/// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
+/// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
+/// points from the particle towards the wall.
 template <bool kFriction>
-void loadWallContacts(const Particles& p, const NeighbourList& list, const Wall& wall,
-                      std::size_t w, ContactChunk& c, std::size_t m) {
-  const Vec3 n = -wall.normal;
+void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
+                      ContactChunk& c, std::size_t m) {
   for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t k = c.slot[e];
+    const std::uint32_t k = c.slot[e], w = c.wall[e];
+    const Wall& wall = walls[w];
+    const Vec3 n = -wall.normal;
     const std::uint32_t i = list.wallParticles[w][k];
     const double h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
     const double arm = p.radius[i] - 0.5 * h;
@@ -255,193 +258,301 @@ void addPowers(ContactPowers& sum, const ContactPowers& part) {
 
 // ---- 2. The hot pass ----------------------------------------------------------------------
 
-/// Contacts per block: the unit of work and of the ordered power sums. Fixed, so the sums do
-/// not depend on the thread count.
-constexpr std::size_t kBlock = 512;
+/// A particle block closes at this many pairs or particles: the unit of the ordered power sums
+/// (fixed, so the sums do not depend on the thread count) and of the split among threads.
+constexpr std::size_t kBlockPairs = 512, kBlockParticles = 512;
 
-/// The pass for one thread (kDirect: each contact adds to its particles as it is computed) or
-/// several (each contact into its own slot, then every particle gathers its slots). Both add a
-/// particle's contacts in the same order: the pairs where it is second (they come before its
-/// own, since the list is sorted by first and first < second), then those where it is first,
-/// each in list order, then its wall contacts by wall and candidate. So they give the same bits,
-/// and one thread skips the slots and the gather.
-template <bool kFriction, NormalLaw kLaw, bool kDirect>
-void forcePass(SimulationState& s, double dt, int threads) {
-  const ContactConstants c = constantsOf(s.config, dt);
-  const Particles& p = s.particles;
-  NeighbourList& list = s.neighbours;
-  ContactScratch& out = s.contactScratch;
-  const std::size_t pairs = list.first.size(), n = p.size();
-  const ChunkKernels kern = kernels();
-
-  if constexpr (kDirect) {
-    s.force.assign(n, Vec3::Zero());
-    if constexpr (kFriction) s.torque.assign(n, Vec3::Zero());
-  } else {
-    resizeScratch(out.pairForce, pairs);
-    if constexpr (kFriction) {
-      resizeScratch(out.pairMoment, pairs);
-      resizeScratch(out.pairOverlap, pairs);
+/// Builds list.plan (simulation_state.hpp) for n particles, `walls` walls and `threads` parts.
+void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int threads) {
+  ForcePlan& x = list.plan;
+  const std::size_t pairs = list.first.size();
+  // Blocks: consecutive particles with their pairs (sorted by first).
+  x.blockParticle.assign(1, 0);
+  x.blockPair.assign(1, 0);
+  for (std::size_t i = 0, k = 0; i < n;) {
+    const std::size_t particleBegin = i, pairBegin = k;
+    while (i < n && i - particleBegin < kBlockParticles && k - pairBegin < kBlockPairs) {
+      ++i;
+      while (k < pairs && list.first[k] < i) ++k;
+    }
+    x.blockParticle.push_back(static_cast<std::uint32_t>(i));
+    x.blockPair.push_back(static_cast<std::uint32_t>(k));
+  }
+  const std::size_t blocks = x.blockParticle.size() - 1;
+  // Each block's wall candidates (ascending particle in each wall's list).
+  x.blockWall.resize((blocks + 1) * walls);
+  for (std::size_t w = 0; w < walls; ++w) {
+    const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
+    for (std::size_t b = 0; b <= blocks; ++b) {
+      x.blockWall[b * walls + w] = static_cast<std::uint32_t>(
+          std::lower_bound(candidates.begin(), candidates.end(), x.blockParticle[b]) -
+          candidates.begin());
     }
   }
-  // (a) Particle pairs.
-  const std::size_t pairBlocks = (pairs + kBlock - 1) / kBlock;
-  out.blockPowers.assign(pairBlocks, ContactPowers{});
-#pragma omp parallel num_threads(threads)
-  {
-    ContactChunk chunk;  // per thread, on its stack
-#pragma omp for schedule(static)
-    for (std::size_t b = 0; b < pairBlocks; ++b) {
-      // A local sum: the compiler keeps it in registers (the output arrays are doubles too, so
-      // a sum in memory would be reloaded after every store for fear of aliasing).
-      ContactPowers powers;
-      const std::size_t end = std::min(pairs, (b + 1) * kBlock);
-      for (std::size_t begin = b * kBlock; begin < end; begin += kChunk) {
-        const std::size_t count = std::min(kChunk, end - begin);
-        const std::size_t m = pickTouchingPairs(p, list, begin, count, chunk);
-        loadPairs<kFriction>(p, list, chunk, m);
-        kern.geometry(chunk, m, kFriction);
-        kern.law(c, chunk, m, kFriction, kLaw, true);
-        addChunkPowers<kFriction>(chunk, m, powers);
-        powers.particleContacts += m;
-        if constexpr (kDirect) {
-          for (std::size_t e = 0; e < m; ++e) {
-            const std::uint32_t i = list.first[chunk.slot[e]], j = list.second[chunk.slot[e]];
-            const Vec3 f = forceOf(chunk, e);
-            s.force[i] += f;
-            s.force[j] -= f;
-            if constexpr (kFriction) {
-              // d_ci × F = a_i n × F on i; (-a_j n) × (-F) = a_j n × F on j.
-              const Vec3 moment(chunk.mx[e], chunk.my[e], chunk.mz[e]);
-              s.torque[i] += (p.radius[i] - 0.5 * chunk.overlap[e]) * moment;
-              s.torque[j] += (p.radius[j] - 0.5 * chunk.overlap[e]) * moment;
-            }
-          }
-        } else {
-          // Candidates apart carry no force.
-          std::fill_n(out.pairForce.begin() + begin, count, Vec3::Zero());
-          for (std::size_t e = 0; e < m; ++e) out.pairForce[chunk.slot[e]] = forceOf(chunk, e);
-          if constexpr (kFriction) {
-            std::fill_n(out.pairMoment.begin() + begin, count, Vec3::Zero());
-            std::fill_n(out.pairOverlap.begin() + begin, count, 0.0);
-            for (std::size_t e = 0; e < m; ++e) {
-              out.pairMoment[chunk.slot[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
-              out.pairOverlap[chunk.slot[e]] = chunk.overlap[e];
-            }
-          }
-        }
-        if constexpr (kFriction) {  // a contact that opened forgets its spring
-          std::fill_n(list.history.begin() + begin, count, TangentialHistory{});
-          storeSprings(chunk, m, list.history.data());
-        }
+  // Threads: runs of blocks of about equal work (contacts and particles).
+  auto workBefore = [&](std::size_t b) {
+    std::size_t work = x.blockPair[b] + x.blockParticle[b];
+    for (std::size_t w = 0; w < walls; ++w) work += x.blockWall[b * walls + w];
+    return work;
+  };
+  const std::size_t total = workBefore(blocks);
+  x.threadBlock.assign(static_cast<std::size_t>(threads) + 1, static_cast<std::uint32_t>(blocks));
+  x.threadBlock[0] = 0;
+  for (std::size_t t = 1, b = 0; t < static_cast<std::size_t>(threads); ++t) {
+    while (b < blocks && workBefore(b) * threads < total * t) ++b;
+    x.threadBlock[t] = static_cast<std::uint32_t>(b);
+  }
+  // Crossing pairs, by the thread of their first; then by the thread of their second.
+  x.crossing.clear();
+  x.crossingStart.assign(1, 0);
+  for (int t = 0; t < threads; ++t) {
+    const std::uint32_t ownEnd = x.blockParticle[x.threadBlock[t + 1]];
+    for (std::uint32_t k = x.blockPair[x.threadBlock[t]]; k < x.blockPair[x.threadBlock[t + 1]];
+         ++k) {
+      if (list.second[k] >= ownEnd) x.crossing.push_back(k);
+    }
+    x.crossingStart.push_back(static_cast<std::uint32_t>(x.crossing.size()));
+  }
+  x.incoming.resize(x.crossing.size());
+  for (std::size_t q = 0; q < x.crossing.size(); ++q) x.incoming[q] = static_cast<std::uint32_t>(q);
+  auto secondOf = [&](std::uint32_t q) { return list.second[x.crossing[q]]; };
+  // Stable: pairs with the same second stay in ascending first.
+  std::stable_sort(x.incoming.begin(), x.incoming.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return secondOf(a) < secondOf(b); });
+  x.incomingStart.resize(static_cast<std::size_t>(threads) + 1);
+  for (int t = 0; t <= threads; ++t) {
+    const std::uint32_t ownBegin = x.blockParticle[x.threadBlock[t]];
+    x.incomingStart[t] = static_cast<std::uint32_t>(
+        std::partition_point(x.incoming.begin(), x.incoming.end(),
+                             [&](std::uint32_t q) { return secondOf(q) < ownBegin; }) -
+        x.incoming.begin());
+  }
+  x.incomingStart[threads] = static_cast<std::uint32_t>(x.incoming.size());
+  x.threads = threads;
+  x.valid = true;
+}
+
+/// Wall candidates [begin, end) of one wall, examined for the chunk being filled.
+struct CandidateSpan {
+  std::uint32_t wall, begin, end;
+};
+
+/// One force pass over a plan (ForcePlan): `crossingPhase` computes thread part t's crossing
+/// pairs into their slots; `ownedPhase` then adds its incoming slots and computes its blocks,
+/// adding every contact straight to its own particles.
+template <bool kFriction, NormalLaw kLaw>
+class PlannedPass {
+ public:
+  PlannedPass(SimulationState& s, double dt)
+      : s_(s),
+        p_(s.particles),
+        list_(s.neighbours),
+        plan_(s.neighbours.plan),
+        out_(s.contactScratch),
+        constants_(constantsOf(s.config, dt)),
+        kern_(kernels()),
+        walls_(s.walls.size()) {}
+
+  void crossingPhase(std::size_t t, ContactChunk& chunk) {
+    const std::size_t end = plan_.crossingStart[t + 1];
+    for (std::size_t begin = plan_.crossingStart[t]; begin < end; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, end - begin);
+      std::uint32_t at[kChunk];  // each picked pair's crossing slot
+      std::size_t m = 0;
+      for (std::size_t q = begin; q < begin + count; ++q) {
+        const std::uint32_t k = plan_.crossing[q], i = list_.first[k], j = list_.second[k];
+        const double reach = p_.radius[i] + p_.radius[j];
+        chunk.slot[m] = k;
+        at[m] = static_cast<std::uint32_t>(q);
+        m += (p_.position[j] - p_.position[i]).squaredNorm() < reach * reach ? 1 : 0;
       }
-      out.blockPowers[b] = powers;
-    }
-  }
-  // (b) Wall contacts, in blocks of candidates per wall; each block sums its powers and its
-  // push on the wall in order, and the blocks are summed in order (thread-count independent).
-  if constexpr (!kDirect) {
-    out.wallForce.resize(s.walls.size());
-    out.wallTorque.resize(s.walls.size());
-  }
-  out.wallBlocks.clear();
-  for (std::size_t w = 0; w < s.walls.size(); ++w) {
-    const std::size_t candidates = list.wallParticles[w].size();
-    if constexpr (!kDirect) {
-      resizeScratch(out.wallForce[w], candidates);
-      if constexpr (kFriction) resizeScratch(out.wallTorque[w], candidates);
-    }
-    for (std::size_t begin = 0; begin < candidates; begin += kBlock) {
-      out.wallBlocks.push_back({static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(begin),
-                                static_cast<std::uint32_t>(std::min(candidates, begin + kBlock))});
-    }
-  }
-  const std::size_t wallBlocks = out.wallBlocks.size();
-  out.wallBlockPowers.assign(wallBlocks, ContactPowers{});
-  out.wallBlockReaction.assign(wallBlocks, Vec3::Zero());
-#pragma omp parallel num_threads(kDirect ? 1 : threads)
-  {
-    ContactChunk chunk;
-#pragma omp for schedule(static)
-    for (std::size_t b = 0; b < wallBlocks; ++b) {
-      const auto [w, blockBegin, blockEnd] = out.wallBlocks[b];
-      const Wall& wall = s.walls[w];
-      ContactPowers powers;
-      Vec3 reaction = Vec3::Zero();
-      for (std::size_t begin = blockBegin; begin < blockEnd; begin += kChunk) {
-        const std::size_t count = std::min<std::size_t>(kChunk, blockEnd - begin);
-        const std::size_t m = pickTouchingWallContacts(p, list, wall, w, begin, count, chunk);
-        loadWallContacts<kFriction>(p, list, wall, w, chunk, m);
-        kern.law(c, chunk, m, kFriction, kLaw, true);
-        addChunkPowers<kFriction>(chunk, m, powers);
-        powers.wallContacts += m;
-        if constexpr (!kDirect) {
-          std::fill_n(out.wallForce[w].begin() + begin, count, Vec3::Zero());
-          if constexpr (kFriction) {
-            std::fill_n(out.wallTorque[w].begin() + begin, count, Vec3::Zero());
-          }
-        }
-        for (std::size_t e = 0; e < m; ++e) {
-          const std::uint32_t k = chunk.slot[e];
-          const Vec3 f = forceOf(chunk, e);
-          // d_ci × F on the particle, d_ci = a n.
-          const Vec3 torque =
-              kFriction ? Vec3(chunk.armI[e] * normalOf(chunk, e).cross(f)) : Vec3(Vec3::Zero());
-          if constexpr (kDirect) {
-            const std::uint32_t i = list.wallParticles[w][k];
-            s.force[i] += f;
-            if constexpr (kFriction) s.torque[i] += torque;
-          } else {
-            out.wallForce[w][k] = f;
-            if constexpr (kFriction) out.wallTorque[w][k] = torque;
-          }
-          powers.wallPower += f.dot(wall.velocity);
-          reaction -= f;
-        }
+      loadPairs<kFriction>(p_, list_, chunk, m);
+      kern_.geometry(chunk, m, kFriction);
+      // Advanced as the owned phase will (the force uses the new spring), but not stored.
+      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+      std::fill_n(out_.crossingTouching.begin() + begin, count, 0);
+      for (std::size_t e = 0; e < m; ++e) {
+        out_.crossingTouching[at[e]] = 1;
+        out_.crossingForce[at[e]] = forceOf(chunk, e);
         if constexpr (kFriction) {
-          std::fill_n(list.wallHistory[w].begin() + begin, count, TangentialHistory{});
-          storeSprings(chunk, m, list.wallHistory[w].data());
+          out_.crossingMoment[at[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+          out_.crossingOverlap[at[e]] = chunk.overlap[e];
         }
       }
-      out.wallBlockPowers[b] = powers;
-      out.wallBlockReaction[b] = reaction;
     }
   }
+
+  void ownedPhase(std::size_t t, ContactChunk& chunk) {
+    const std::size_t ownBegin = plan_.blockParticle[plan_.threadBlock[t]];
+    ownEnd_ = plan_.blockParticle[plan_.threadBlock[t + 1]];
+    std::fill(s_.force.begin() + ownBegin, s_.force.begin() + ownEnd_, Vec3::Zero());
+    if constexpr (kFriction) {
+      std::fill(s_.torque.begin() + ownBegin, s_.torque.begin() + ownEnd_, Vec3::Zero());
+    }
+    // Pairs with their first on an earlier part: before any of our own (ascending first).
+    for (std::size_t e = plan_.incomingStart[t]; e < plan_.incomingStart[t + 1]; ++e) {
+      const std::uint32_t q = plan_.incoming[e];
+      if (!out_.crossingTouching[q]) continue;  // as on one thread: nothing added
+      const std::uint32_t j = list_.second[plan_.crossing[q]];
+      s_.force[j] -= out_.crossingForce[q];
+      if constexpr (kFriction) {
+        s_.torque[j] += (p_.radius[j] - 0.5 * out_.crossingOverlap[q]) * out_.crossingMoment[q];
+      }
+    }
+    for (std::size_t b = plan_.threadBlock[t]; b < plan_.threadBlock[t + 1]; ++b) {
+      ContactPowers powers;  // local: kept in registers
+      blockPairs(b, chunk, powers);
+      blockWalls(b, chunk, powers);
+      out_.blockPowers[b] = powers;
+    }
+  }
+
+ private:
+  void blockPairs(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
+    const std::size_t end = plan_.blockPair[b + 1];
+    for (std::size_t begin = plan_.blockPair[b]; begin < end; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, end - begin);
+      const std::size_t m = pickTouchingPairs(p_, list_, begin, count, chunk);
+      loadPairs<kFriction>(p_, list_, chunk, m);
+      kern_.geometry(chunk, m, kFriction);
+      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+      addChunkPowers<kFriction>(chunk, m, powers);
+      powers.particleContacts += m;
+      for (std::size_t e = 0; e < m; ++e) {
+        const std::uint32_t i = list_.first[chunk.slot[e]], j = list_.second[chunk.slot[e]];
+        const Vec3 f = forceOf(chunk, e);
+        const bool ownsJ = j < ownEnd_;  // else j's part adds it from the crossing slot
+        s_.force[i] += f;
+        if (ownsJ) s_.force[j] -= f;
+        if constexpr (kFriction) {
+          // d_ci × F = a_i n × F on i; (-a_j n) × (-F) = a_j n × F on j.
+          const Vec3 moment(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+          s_.torque[i] += (p_.radius[i] - 0.5 * chunk.overlap[e]) * moment;
+          if (ownsJ) s_.torque[j] += (p_.radius[j] - 0.5 * chunk.overlap[e]) * moment;
+        }
+      }
+      if constexpr (kFriction) {  // a contact that opened forgets its spring
+        std::fill_n(list_.history.begin() + begin, count, TangentialHistory{});
+        storeSprings(chunk, m, list_.history.data());
+      }
+    }
+  }
+
+  /// The block's wall contacts, wall by wall, in chunks that may hold several walls.
+  void blockWalls(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
+    Vec3* reaction = out_.blockReaction.data() + b * walls_;
+    std::fill_n(reaction, walls_, Vec3::Zero());
+    std::size_t m = 0;
+    spans_.clear();
+    for (std::size_t w = 0; w < walls_; ++w) {
+      const std::size_t end = plan_.blockWall[(b + 1) * walls_ + w];
+      for (std::size_t k = plan_.blockWall[b * walls_ + w]; k < end;) {
+        const std::size_t count = std::min(kChunk - m, end - k);
+        m = pickTouchingWallContacts(p_, list_, s_.walls[w], w, k, count, chunk, m);
+        spans_.push_back({static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(k),
+                          static_cast<std::uint32_t>(k + count)});
+        k += count;
+        if (m == kChunk) {
+          wallChunk(chunk, m, powers, reaction);
+          m = 0;
+        }
+      }
+    }
+    if (!spans_.empty()) wallChunk(chunk, m, powers, reaction);
+  }
+
+  void wallChunk(ContactChunk& chunk, std::size_t m, ContactPowers& powers, Vec3* reaction) {
+    loadWallContacts<kFriction>(p_, list_, s_.walls, chunk, m);
+    kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+    addChunkPowers<kFriction>(chunk, m, powers);
+    powers.wallContacts += m;
+    for (std::size_t e = 0; e < m; ++e) {
+      const std::uint32_t w = chunk.wall[e], i = list_.wallParticles[w][chunk.slot[e]];
+      const Vec3 f = forceOf(chunk, e);
+      s_.force[i] += f;
+      // d_ci × F on the particle, d_ci = a n.
+      if constexpr (kFriction) s_.torque[i] += chunk.armI[e] * normalOf(chunk, e).cross(f);
+      powers.wallPower += f.dot(s_.walls[w].velocity);
+      reaction[w] -= f;
+    }
+    if constexpr (kFriction) {  // the examined candidates forget their springs, then keep these
+      for (const CandidateSpan& span : spans_) {
+        std::fill(list_.wallHistory[span.wall].begin() + span.begin,
+                  list_.wallHistory[span.wall].begin() + span.end, TangentialHistory{});
+      }
+      for (std::size_t e = 0; e < m; ++e) {
+        list_.wallHistory[chunk.wall[e]][chunk.slot[e]] =
+            TangentialHistory{Vec3(chunk.sx[e], chunk.sy[e], chunk.sz[e]), chunk.stiffness[e]};
+      }
+    }
+    spans_.clear();
+  }
+
+  SimulationState& s_;
+  const Particles& p_;
+  NeighbourList& list_;
+  const ForcePlan& plan_;
+  ContactScratch& out_;
+  const ContactConstants constants_;
+  const ChunkKernels kern_;
+  const std::size_t walls_;
+  std::size_t ownEnd_ = 0;
+  std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
+};
+
+/// The hot pass. On one thread, one part owns every block. On several, each part first
+/// computes its crossing pairs, then (after a barrier) adds its incoming ones and its own
+/// contacts: every particle receives its contacts in the same order for any thread count
+/// (ForcePlan), and the powers and wall reactions are summed per block and then in block
+/// order, so the result is the same bits.
+template <bool kFriction, NormalLaw kLaw>
+void forcePass(SimulationState& s, double dt, int threads) {
+  NeighbourList& list = s.neighbours;
+  const std::size_t n = s.particles.size(), walls = s.walls.size();
+  if (!list.plan.valid || list.plan.threads != threads) {
+    buildForcePlan(list, n, walls, threads);
+  }
+  const ForcePlan& plan = list.plan;
+  const std::size_t blocks = plan.blockParticle.size() - 1, crossings = plan.crossing.size();
+  ContactScratch& out = s.contactScratch;
+  resizeScratch(out.crossingTouching, crossings);
+  resizeScratch(out.crossingForce, crossings);
+  if constexpr (kFriction) {
+    resizeScratch(out.crossingMoment, crossings);
+    resizeScratch(out.crossingOverlap, crossings);
+  }
+  out.blockPowers.resize(blocks);
+  out.blockReaction.resize(blocks * walls);
+  resizeScratch(s.force, n);
+  if constexpr (kFriction) resizeScratch(s.torque, n);
+
+  if (threads == 1) {
+    PlannedPass<kFriction, kLaw> pass(s, dt);
+    ContactChunk chunk;
+    pass.ownedPhase(0, chunk);
+  } else {
+#pragma omp parallel num_threads(threads)
+    {
+      // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
+      const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+      const std::size_t parts = static_cast<std::size_t>(threads);
+      PlannedPass<kFriction, kLaw> pass(s, dt);
+      ContactChunk chunk;  // per thread, on its stack
+      for (std::size_t t = omp_get_thread_num(); t < parts; t += team) {
+        pass.crossingPhase(t, chunk);
+      }
+#pragma omp barrier
+      for (std::size_t t = omp_get_thread_num(); t < parts; t += team) pass.ownedPhase(t, chunk);
+    }
+  }
+
   ContactPowers powers;
   for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
-  for (const ContactPowers& part : out.wallBlockPowers) addPowers(powers, part);
-  for (Wall& wall : s.walls) wall.reaction = Vec3::Zero();
-  for (std::size_t b = 0; b < wallBlocks; ++b) {
-    s.walls[out.wallBlocks[b].wall].reaction += out.wallBlockReaction[b];
-  }
   s.powers = powers;
-  if constexpr (kDirect) return;
-
-  // (c) Each particle gathers its slots, in the order stated above.
-  if (!list.index.valid) buildContactIndex(list, n);
-  const ContactIndex& index = list.index;
-  s.force.resize(n);
-  if constexpr (kFriction) s.torque.resize(n);
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 f = Vec3::Zero(), t = Vec3::Zero();
-    const double radius = p.radius[i];
-    for (std::uint32_t e = index.secondStart[i]; e < index.secondStart[i + 1]; ++e) {
-      const std::uint32_t k = index.secondPairs[e];
-      f -= out.pairForce[k];
-      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
-    }
-    for (std::uint32_t k = index.firstStart[i]; k < index.firstStart[i + 1]; ++k) {
-      f += out.pairForce[k];
-      if constexpr (kFriction) t += (radius - 0.5 * out.pairOverlap[k]) * out.pairMoment[k];
-    }
-    for (std::uint32_t e = index.wallStart[i]; e < index.wallStart[i + 1]; ++e) {
-      const auto [w, k] = index.wallContacts[e];
-      f += out.wallForce[w][k];
-      if constexpr (kFriction) t += out.wallTorque[w][k];
-    }
-    s.force[i] = f;
-    if constexpr (kFriction) s.torque[i] = t;
+  for (std::size_t w = 0; w < walls; ++w) {
+    Vec3 reaction = Vec3::Zero();
+    for (std::size_t b = 0; b < blocks; ++b) reaction += out.blockReaction[b * walls + w];
+    s.walls[w].reaction = reaction;
   }
 }
 
@@ -477,7 +588,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
       const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
-      loadWallContacts<kFriction>(p, list, s.walls[w], w, chunk, m);
+      loadWallContacts<kFriction>(p, list, s.walls, chunk, m);
       kern.law(c, chunk, m, kFriction, kLaw, false);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
@@ -518,13 +629,7 @@ bool setForceKernelBuild(ForceKernelBuild build) {
 
 void computeContactForces(SimulationState& s, double dt) {
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
-  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() {
-    if (threads == 1) {
-      forcePass<kFriction, kLaw, true>(s, dt, threads);
-    } else {
-      forcePass<kFriction, kLaw, false>(s, dt, threads);
-    }
-  });
+  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() { forcePass<kFriction, kLaw>(s, dt, threads); });
 }
 
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,

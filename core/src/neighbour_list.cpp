@@ -198,41 +198,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   list.referenceWallPoint.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallPoint[w] = walls[w].point;
   list.valid = true;
-  list.index.valid = false;  // built when a multi-thread force pass needs it
-}
-
-void buildContactIndex(NeighbourList& list, std::size_t n) {
-  ContactIndex& x = list.index;
-  x.firstStart.assign(n + 1, 0);
-  x.secondStart.assign(n + 1, 0);
-  x.wallStart.assign(n + 1, 0);
-  for (std::size_t k = 0; k < list.first.size(); ++k) {
-    ++x.firstStart[list.first[k] + 1];
-    ++x.secondStart[list.second[k] + 1];
-  }
-  for (const auto& candidates : list.wallParticles) {
-    for (std::uint32_t i : candidates) ++x.wallStart[i + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    x.firstStart[i + 1] += x.firstStart[i];
-    x.secondStart[i + 1] += x.secondStart[i];
-    x.wallStart[i + 1] += x.wallStart[i];
-  }
-  // Filled in ascending k (and wall, candidate) order: each particle's slots stay ordered.
-  resizeScratch(x.secondPairs, list.first.size());
-  std::vector<std::uint32_t> fill(x.secondStart.begin(), x.secondStart.end() - 1);
-  for (std::size_t k = 0; k < list.second.size(); ++k) {
-    x.secondPairs[fill[list.second[k]]++] = static_cast<std::uint32_t>(k);
-  }
-  x.wallContacts.resize(x.wallStart[n]);
-  fill.assign(x.wallStart.begin(), x.wallStart.end() - 1);
-  for (std::size_t w = 0; w < list.wallParticles.size(); ++w) {
-    for (std::size_t k = 0; k < list.wallParticles[w].size(); ++k) {
-      const std::uint32_t i = list.wallParticles[w][k];
-      x.wallContacts[fill[i]++] = {static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(k)};
-    }
-  }
-  x.valid = true;
+  list.plan.valid = false;  // the force pass rebuilds it
 }
 
 // ---- Staleness ----------------------------------------------------------------------------

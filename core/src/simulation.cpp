@@ -494,12 +494,13 @@ MemoryUse Simulation::memoryUse() const {
   m.neighbours = bytes(l.first) + bytes(l.second) + bytes(l.wallParticles) +
                  bytes(l.referencePosition) + bytes(l.referenceWallPoint);
   m.history = bytes(l.history) + bytes(l.wallHistory);
-  const ContactIndex& x = l.index;
-  m.contactIndex = bytes(x.firstStart) + bytes(x.secondStart) + bytes(x.secondPairs) +
-                   bytes(x.wallStart) + bytes(x.wallContacts);
+  const ForcePlan& x = l.plan;
+  m.forcePlan = bytes(x.blockParticle) + bytes(x.blockPair) + bytes(x.blockWall) +
+                bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.crossingStart) +
+                bytes(x.incoming) + bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
-  m.scratch = bytes(c.pairForce) + bytes(c.pairMoment) + bytes(c.pairOverlap) + bytes(c.wallForce) +
-              bytes(c.wallTorque) + bytes(c.blockPowers);
+  m.scratch = bytes(c.crossingTouching) + bytes(c.crossingForce) + bytes(c.crossingMoment) +
+              bytes(c.crossingOverlap) + bytes(c.blockPowers) + bytes(c.blockReaction);
   return m;
 }
 

@@ -19,17 +19,29 @@ struct TangentialHistory {
   double stiffness = 0.0;       ///< k_t at the previous step, for the stiffness-work term [N/m]
 };
 
-/// For each particle, where its contacts' results lie (built with the neighbour list), so the
-/// force pass can gather them per particle in a fixed order: pairs [firstStart[i],
-/// firstStart[i+1]) have i first (the list is sorted by first); secondPairs[secondStart[i] ..
-/// secondStart[i+1]) are the pairs with i second, ascending; wallContacts[wallStart[i] ..] are
-/// its (wall, candidate) slots.
-struct ContactIndex {
-  std::vector<std::uint32_t> firstStart, secondStart, secondPairs, wallStart;
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> wallContacts;
-  /// Built for the current lists. Only the multi-thread force pass reads the index, so a list
-  /// rebuild marks it stale and that pass builds it: one thread never allocates it.
-  bool valid = false;
+/// How the force pass splits its work among threads (force_pass.cpp), derived from the lists
+/// and rebuilt with them (not checkpointed).
+///
+/// Particle blocks are runs of consecutive particles [blockParticle[b], blockParticle[b+1]) with
+/// their pairs (the list is sorted by first) [blockPair[b], blockPair[b+1]) and, per wall w,
+/// their wall candidates [blockWall[b·W + w], blockWall[(b+1)·W + w]). The blocks depend on the
+/// lists only, never on the thread count: each block sums its contact powers in contact order,
+/// and the blocks are summed in order, so the sums are the same bits for any thread count.
+///
+/// Each thread owns a run of blocks [threadBlock[t], threadBlock[t+1]) and adds the forces of
+/// its contacts straight to its own particles. A pair whose second particle belongs to a later
+/// thread "crosses": its force is computed once more, before, by its first's thread into a slot
+/// (crossing[c], ascending pair index; thread t's are [crossingStart[t], crossingStart[t+1])),
+/// and the owner of the second particle adds the slots `incoming[incomingStart[t] ..]` (sorted by
+/// second particle, then first) before its own pairs. Every particle thus receives its contacts
+/// in one order whatever the thread count: the pairs where it is second (ascending first), those
+/// where it is first (ascending second), then its walls (ascending wall).
+struct ForcePlan {
+  std::vector<std::uint32_t> blockParticle, blockPair, blockWall;
+  std::vector<std::uint32_t> threadBlock;
+  std::vector<std::uint32_t> crossing, crossingStart, incoming, incomingStart;
+  int threads = 0;
+  bool valid = false;  ///< built for the current lists and `threads`
 };
 
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
@@ -46,11 +58,8 @@ struct NeighbourList {
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
   double skin = 0.0;                     ///< [m]
   bool valid = false;
-  ContactIndex index;  ///< derived from the lists (not checkpointed), built on demand
+  ForcePlan plan;  ///< derived from the lists (not checkpointed), built by the force pass
 };
-
-/// Rebuilds list.index from the pair and wall lists for n particles.
-void buildContactIndex(NeighbourList& list, std::size_t n);
 
 /// Builds the list for the current positions, carrying tangential history of surviving pairs.
 /// The candidate search runs on `threads` threads (0: OpenMP's default); the list is the same
@@ -99,23 +108,15 @@ struct ContactPowers {
   std::uint64_t tangentialEvaluations = 0;
 };
 
-/// Per-contact results of the hot force pass, gathered per particle afterwards.
+/// Results of the force pass kept between its phases and its blocks (ForcePlan).
 struct ContactScratch {
-  std::vector<Vec3> pairForce;  ///< F_ij on the first particle [N]
-  /// n × F_ij [N] and the overlap h [m] of each pair (friction only): the torques on i and j are
-  /// (R_i − h/2)·n×F and (R_j − h/2)·n×F, rebuilt in the gather from each particle's own radius,
-  /// which stores 32 bytes a pair instead of two torques' 48.
-  std::vector<Vec3> pairMoment;
-  std::vector<double> pairOverlap;
-  std::vector<std::vector<Vec3>> wallForce, wallTorque;
-  std::vector<ContactPowers> blockPowers;  ///< per block of particle pairs
-  /// Wall candidates in blocks [begin, end) of one wall, with each block's powers and push.
-  struct WallBlock {
-    std::uint32_t wall, begin, end;
-  };
-  std::vector<WallBlock> wallBlocks;
-  std::vector<ContactPowers> wallBlockPowers;
-  std::vector<Vec3> wallBlockReaction;
+  /// Per crossing pair: whether it touches, F_ij on the first particle [N], n × F_ij [N] and
+  /// the overlap h [m] (friction only); the second particle's torque is (R_j − h/2)·n×F.
+  std::vector<std::uint8_t> crossingTouching;
+  std::vector<Vec3> crossingForce, crossingMoment;
+  std::vector<double> crossingOverlap;
+  std::vector<ContactPowers> blockPowers;  ///< per particle block
+  std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };
 
 struct EnergyAccumulators {

@@ -71,14 +71,14 @@ struct EnergyBalance {
 /// Bytes held by a Simulation's arrays (their capacity), by what they are for. Transient
 /// buffers of a neighbour-list rebuild are not included: they live only during the rebuild.
 struct MemoryUse {
-  std::size_t particles = 0;     ///< positions, velocities, ω, radii, masses [B]
-  std::size_t integrator = 0;    ///< forces, torques and the integrator's derivatives [B]
-  std::size_t neighbours = 0;    ///< candidate pairs, wall candidates, reference positions [B]
-  std::size_t history = 0;       ///< tangential springs (frictional only) [B]
-  std::size_t contactIndex = 0;  ///< per-particle index of its contacts for the gather [B]
-  std::size_t scratch = 0;       ///< per-contact results of the force pass [B]
+  std::size_t particles = 0;   ///< positions, velocities, ω, radii, masses [B]
+  std::size_t integrator = 0;  ///< forces, torques and the integrator's derivatives [B]
+  std::size_t neighbours = 0;  ///< candidate pairs, wall candidates, reference positions [B]
+  std::size_t history = 0;     ///< tangential springs (frictional only) [B]
+  std::size_t forcePlan = 0;   ///< how the force pass splits its work among threads [B]
+  std::size_t scratch = 0;     ///< force-pass results of pairs straddling two threads [B]
   std::size_t total() const {
-    return particles + integrator + neighbours + history + contactIndex + scratch;
+    return particles + integrator + neighbours + history + forcePlan + scratch;
   }
 };
 
