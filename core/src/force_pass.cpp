@@ -108,16 +108,30 @@ ChunkKernels kernels() {
 
 // ---- 1. Chunks of contacts in and out -----------------------------------------------------
 
-/// Picks the touching pairs among the candidates [begin, begin + count) into c.slot; returns
-/// how many. Branch-free: the slot is always written and kept only when the pair touches.
+/// Writes pair k's slot, centre offset x_j - x_i and radii into entry m of the chunk; returns
+/// 1 if the spheres touch, else 0 (the entry is then overwritten by the next one).
+[[gnu::always_inline]] inline std::size_t pickPair(const Particles& p, const NeighbourList& list,
+                                                   std::uint32_t k, ContactChunk& c,
+                                                   std::size_t m) {
+  const std::uint32_t i = list.first[k], j = list.second[k];
+  const Vec3 d = p.position[j] - p.position[i];
+  const double ri = p.radius[i], rj = p.radius[j], reach = ri + rj;
+  c.slot[m] = k;
+  c.dx[m] = d.x();
+  c.dy[m] = d.y();
+  c.dz[m] = d.z();
+  c.ri[m] = ri;
+  c.rj[m] = rj;
+  return d.squaredNorm() < reach * reach ? 1 : 0;
+}
+
+/// Picks the touching pairs among the candidates [begin, begin + count) into the chunk (slot,
+/// offset and radii; loadPairs adds the rest); returns how many. Branch-free.
 inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
                                      std::size_t begin, std::size_t count, ContactChunk& c) {
   std::size_t m = 0;
   for (std::size_t k = begin; k < begin + count; ++k) {
-    const std::uint32_t i = list.first[k], j = list.second[k];
-    const double reach = p.radius[i] + p.radius[j];
-    c.slot[m] = static_cast<std::uint32_t>(k);
-    m += (p.position[j] - p.position[i]).squaredNorm() < reach * reach ? 1 : 0;
+    m += pickPair(p, list, static_cast<std::uint32_t>(k), c, m);
   }
   return m;
 }
@@ -146,19 +160,14 @@ inline void loadSpring(const TangentialHistory& spring, ContactChunk& c, std::si
   c.stiffness[e] = spring.stiffness;
 }
 
-/// Copies the m picked pairs into the chunk (their geometry is computed next, by the kernel).
+/// Completes the m picked pairs in the chunk with masses, velocities and springs (their
+/// geometry is computed next, by the kernel).
 template <bool kFriction>
 void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t k = c.slot[e];
     const std::uint32_t i = list.first[k], j = list.second[k];
-    const Vec3 d = p.position[j] - p.position[i];
     const Vec3 v = p.velocity[i] - p.velocity[j];
-    c.dx[e] = d.x();
-    c.dy[e] = d.y();
-    c.dz[e] = d.z();
-    c.ri[e] = p.radius[i];
-    c.rj[e] = p.radius[j];
     c.mi[e] = p.mass[i];
     c.mj[e] = p.mass[j];
     c.vx[e] = v.x();
@@ -360,11 +369,8 @@ class PlannedPass {
       std::uint32_t at[kChunk];  // each picked pair's crossing slot
       std::size_t m = 0;
       for (std::size_t q = begin; q < begin + count; ++q) {
-        const std::uint32_t k = plan_.crossing[q], i = list_.first[k], j = list_.second[k];
-        const double reach = p_.radius[i] + p_.radius[j];
-        chunk.slot[m] = k;
         at[m] = static_cast<std::uint32_t>(q);
-        m += (p_.position[j] - p_.position[i]).squaredNorm() < reach * reach ? 1 : 0;
+        m += pickPair(p_, list_, plan_.crossing[q], chunk, m);
       }
       loadPairs<kFriction>(p_, list_, chunk, m);
       kern_.geometry(chunk, m, kFriction);

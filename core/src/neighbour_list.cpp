@@ -135,9 +135,11 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
         for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
           for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
             const long c = grid.cellIndex(x, y, z);
-            for (std::uint32_t k = grid.cellStart[c]; k < grid.cellStart[c + 1]; ++k) {
+            // A cell lists its particles in ascending order: skip those up to i unread.
+            std::uint32_t k = grid.cellStart[c];
+            while (k < grid.cellStart[c + 1] && grid.items[k] <= i) ++k;
+            for (; k < grid.cellStart[c + 1]; ++k) {
               const std::uint32_t j = grid.items[k];
-              if (j <= i) continue;
               const double reach = p.radius[i] + p.radius[j] + skin;
               if ((p.position[j] - xi).squaredNorm() < reach * reach) found(j);
             }
@@ -146,23 +148,35 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       }
     };
     const int teams = threads > 0 ? threads : omp_get_max_threads();
-    std::vector<std::uint32_t> start(n + 1, 0);
+    if (teams == 1) {
+      // One search, appending: the old list's size (+1/8) is reserved, so the list grows by
+      // doubling only when it outgrows that (the first build, a bed being compacted).
+      second.reserve(list.second.size() + list.second.size() / 8 + 16);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t begin = second.size();
+        search(i, [&second](std::uint32_t j) { second.push_back(j); });
+        std::sort(second.begin() + static_cast<std::ptrdiff_t>(begin), second.end());
+        first.resize(second.size(), static_cast<std::uint32_t>(i));
+      }
+    } else {
+      std::vector<std::uint32_t> start(n + 1, 0);
 #pragma omp parallel for schedule(static) num_threads(teams)
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t count = 0;
-      search(i, [&count](std::uint32_t) { ++count; });
-      start[i + 1] = count;
-    }
-    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-    first.resize(start[n]);
-    second.resize(start[n]);
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t count = 0;
+        search(i, [&count](std::uint32_t) { ++count; });
+        start[i + 1] = count;
+      }
+      for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+      first.resize(start[n]);
+      second.resize(start[n]);
 #pragma omp parallel for schedule(static) num_threads(teams)
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t* out = second.data() + start[i];
-      search(i, [&out](std::uint32_t j) { *out++ = j; });
-      std::sort(second.begin() + start[i], second.begin() + start[i + 1]);
-      std::fill(first.begin() + start[i], first.begin() + start[i + 1],
-                static_cast<std::uint32_t>(i));
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint32_t* out = second.data() + start[i];
+        search(i, [&out](std::uint32_t j) { *out++ = j; });
+        std::sort(second.begin() + start[i], second.begin() + start[i + 1]);
+        std::fill(first.begin() + start[i], first.begin() + start[i + 1],
+                  static_cast<std::uint32_t>(i));
+      }
     }
   }
 
@@ -213,9 +227,10 @@ bool neighbourListStale(const NeighbourList& list, const Particles& p,
   // the particle's displacement plus the wall's.
   double maxMove2 = 0.0;  // a maximum is exact in any order: the reduction is deterministic
   const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) reduction(max         \
-                                                    : maxMove2) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads())
+  const int teams = threads > 0 ? threads : omp_get_max_threads();
+  // Every step: one thread does not pay for starting a parallel region.
+#pragma omp parallel for schedule(static) reduction(max \
+                                                    : maxMove2) num_threads(teams) if (teams > 1)
   for (std::size_t i = 0; i < n; ++i) {
     maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
   }
