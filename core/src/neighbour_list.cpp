@@ -148,10 +148,13 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       }
     };
     const int teams = threads > 0 ? threads : omp_get_max_threads();
-    if (teams == 1) {
-      // One search, appending: the old list's size (+1/8) is reserved, so the list grows by
-      // doubling only when it outgrows that (the first build, a bed being compacted).
-      second.reserve(list.second.size() + list.second.size() / 8 + 16);
+    if (teams == 1 && !list.second.empty()) {
+      // One search, appending into the old list's size + 1/8, reserved for both arrays: they
+      // grow by doubling (a transient the peak memory would show) only if the list outgrows
+      // that between two rebuilds. The first build counts first, as several threads do.
+      const std::size_t expected = list.second.size() + list.second.size() / 8 + 16;
+      first.reserve(expected);
+      second.reserve(expected);
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t begin = second.size();
         search(i, [&second](std::uint32_t j) { second.push_back(j); });
