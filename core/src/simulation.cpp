@@ -42,8 +42,7 @@ std::string str(double x) {
   throw NumericalError(msg.str());
 }
 
-void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
-  const Material& m = cfg.material;
+void validateMaterial(const Material& m) {
   require(std::isfinite(m.youngModulus) && m.youngModulus > 0,
           "material.youngs_modulus = " + str(m.youngModulus) + " Pa: must be > 0");
   require(m.poissonRatio >= 0 && m.poissonRatio < 0.5,
@@ -56,6 +55,10 @@ void validate(const SimulationConfig& cfg, const Particles& p, const std::vector
           "material.normal_damping = " + str(m.normalDamping) + " 1/s: must be >= 0");
   require(std::isfinite(m.tangentialDamping) && m.tangentialDamping >= 0,
           "material.tangential_damping = " + str(m.tangentialDamping) + " 1/s: must be >= 0");
+}
+
+void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
+  validateMaterial(cfg.material);
   require(std::isfinite(cfg.timeStep) && cfg.timeStep > 0,
           "time step = " + str(cfg.timeStep) + " s: must be > 0");
   require(std::isfinite(cfg.skin) && cfg.skin >= 0, "skin = " + str(cfg.skin) + " m: must be >= 0");
@@ -376,6 +379,55 @@ void Simulation::setTimeStep(double dt) {
   state_->timeOrigin = time();
   state_->stepsSinceOrigin = 0;
   state_->config.timeStep = dt;
+}
+
+void Simulation::setMaterial(const Material& material) {
+  SimulationState& s = *state_;
+  const Material& now = s.config.material;
+  if (material.youngModulus == now.youngModulus && material.poissonRatio == now.poissonRatio &&
+      material.shearModulus == now.shearModulus && material.density == now.density &&
+      material.friction == now.friction && material.normalDamping == now.normalDamping &&
+      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw) {
+    return;  // nothing changes, not even the bits
+  }
+  validateMaterial(material);
+  const Particles& p = s.particles;
+  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+  const ContactScale scale = stiffestContact(material, rMin, s.config.impactSpeed);
+  if (!s.stepLimitDisabled) requireStableStep(s.config.timeStep, scale, s.config.integrator);
+  // Accepted: nothing above has changed the state.
+  s.config.material = material;
+  s.contactScale = scale;
+  const std::size_t n = p.size();
+  if (material.hasFriction() != s.frictional) {
+    s.frictional = material.hasFriction();
+    if (s.frictional) {  // rotations start at rest, springs unstretched, as in a new run
+      s.rotation.d2.assign(n, Vec3::Zero());
+      if (s.config.integrator == Integrator::Gear5) {
+        for (std::vector<Vec3>* d : {&s.rotation.d3, &s.rotation.d4, &s.rotation.d5}) {
+          d->assign(n, Vec3::Zero());
+        }
+      }
+    } else {  // the frictionless path has no rotations
+      s.rotation = Derivatives{};
+      std::vector<Vec3>().swap(s.torque);
+      s.particles.angularVelocity.assign(n, Vec3::Zero());
+    }
+    // A list built for the other path holds no springs (or ones no longer wanted): start anew.
+    NeighbourList& list = s.neighbours;
+    for (std::vector<std::uint32_t>* v : {&list.first, &list.second}) v->clear();
+    list.history.clear();
+    list.wallParticles.clear();
+    list.wallHistory.clear();
+    rebuildNeighbourList(list, s.particles, s.walls, s.frictional, s.config.threads);
+    ++s.counters.rebuilds;
+  }
+  // The accelerations under the new law, as a new simulation starts (springs kept: dt = 0).
+  computeContactForces(s, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    s.translation.d2[i] = s.force[i] * (1.0 / p.mass[i]) + s.config.gravity;
+    if (s.frictional) s.rotation.d2[i] = s.torque[i] * (1.0 / p.inertia(i));
+  }
 }
 
 void Simulation::setIntegrator(Integrator integrator) {

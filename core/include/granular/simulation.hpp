@@ -127,6 +127,13 @@ class Simulation {
   /// another step); refused like the constructor refuses it (ConfigError). Gear's derivatives
   /// are stored unscaled, so the change needs no rescaling.
   void setTimeStep(double dt);
+  /// Changes the material (E, ν, G, μ, damping, normal law) from the next step on, e.g. from a
+  /// front end that steers a run. Refused (ConfigError, nothing changed) on a value out of range
+  /// or if the current step is above the new contacts' limit. Switching friction on starts the
+  /// rotations at rest and the springs unstretched; switching it off drops them. The
+  /// accelerations are recomputed under the new law. The energy balance sees the jump of the
+  /// stored elastic energy a stiffness change causes. Density changes do not re-mass particles.
+  void setMaterial(const Material& material);
   /// Continues with another integrator from the current state (e.g. to compare Gear and Verlet
   /// from one restored checkpoint, contact history included). Gear → Verlet keeps the
   /// acceleration, all Verlet needs; Verlet → Gear starts Gear's higher derivatives at zero, as
