@@ -21,6 +21,8 @@ packages=(
   libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core
   # ParaView files (VTK's data model and XML writers; ~350 MB on a fresh machine)
   libvtk9-dev
+  # granular-gui (optional window) and its test under a virtual X server
+  libimgui-dev libglfw3-dev libstb-dev xvfb xauth
   # sanitizer and fuzzing builds (scripts/ci-sanitizers.sh): clang; its sanitizer and libFuzzer
   # runtimes (libclang-rt-14-dev, only recommended by clang, so not pulled in by
   # --no-install-recommends); LLVM's OpenMP runtime with the Archer tool for ThreadSanitizer

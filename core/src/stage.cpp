@@ -97,17 +97,19 @@ class StageClock {
 
 }  // namespace
 
+void beginStage(Simulation& sim, const StageSpec& stage) {
+  if (stage.resetClock) sim.setTime(0.0);
+  if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
+  applyWallMotions(sim, stage);
+}
+
 StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& output,
                      const StageObserver& observer, const StageProgress* resume) {
   if (!(output.interval > 0.0)) throw ConfigError("output interval must be > 0");
   if (!(stage.end.maxTime > 0.0)) {
     throw ConfigError("stage '" + stage.name + "': max time must be > 0");
   }
-  if (!resume) {
-    if (stage.resetClock) sim.setTime(0.0);
-    if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
-    applyWallMotions(sim, stage);
-  }
+  if (!resume) beginStage(sim, stage);
 
   const double dt = sim.config().timeStep;
   const double tolerance = 1e-6 * dt;

@@ -41,7 +41,12 @@ struct StageObserver {
   std::uint64_t checkpointSteps = 0;
 };
 
-/// Applies the stage's set-up (clock reset, top wall, wall velocities) and steps to its end.
+/// Applies the stage's set-up only: clock reset, top wall on the surface, wall velocities (every
+/// wall the stage does not name is at rest). For a front end that steps a stage itself. Throws
+/// ConfigError on a wall it cannot place or find.
+void beginStage(Simulation& sim, const StageSpec& stage);
+
+/// Applies the stage's set-up (beginStage) and steps to its end.
 /// With `resume`, the simulation is a checkpoint taken inside this stage: the set-up is already
 /// in it, and the stage continues from `resume` as if it had never stopped (same samples, same
 /// end, bit for bit).

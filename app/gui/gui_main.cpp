@@ -1,0 +1,571 @@
+/// granular-gui: steers a run live in a window (GLFW, OpenGL 3.3 core, Dear ImGui). The 3-D view
+/// is drawn by the renderer of the headless figures (render::ParticleRenderer) into the window's
+/// framebuffer; the simulation runs on its own thread (SimRunner) and the window draws whole
+/// snapshots of it. `--script` presses the buttons from the command line (gui_script.hpp).
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "granular/render/colormap.hpp"
+#include "granular/render/image.hpp"
+#include "granular/render/particle_view.hpp"
+#include "gui_script.hpp"
+#include "orbit_camera.hpp"
+#include "sim_runner.hpp"
+
+namespace fs = std::filesystem;
+using namespace granular;
+using namespace granular::gui;
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: granular-gui [--scene FILE] [--frames N] [--screenshot FILE] [--script TEXT]\n"
+    "                    [--width PX] [--height PX]\n"
+    "  --scene FILE       scene to load (default: the paper's mu = 0.3 case)\n"
+    "  --frames N         quit after N frames (scripted runs)\n"
+    "  --screenshot FILE  write the window as a PNG when quitting\n"
+    "  --script TEXT      commands separated by ';', one per frame: run, pause, reset, stage2,\n"
+    "                     step N, speed N, mu X, gamma-n X, gamma-t X, youngs-modulus X,\n"
+    "                     wall-velocity X, colour force|speed|none, frames N, wait-steps N,\n"
+    "                     screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, quit\n"
+    "Mouse in the 3-D view: left drag orbits, right drag pans, the wheel zooms.\n";
+
+struct Options {
+  fs::path scene = fs::path(GRANULAR_SCENES_DIR) / "paper-mu03.toml";
+  long frames = -1;
+  fs::path screenshot;
+  std::string script;
+  int width = 1280, height = 800;
+};
+
+/// The few GL calls the window itself makes (the renderer and ImGui load their own).
+struct WindowGl {
+  void (*viewport)(int, int, int, int);
+  void (*scissor)(int, int, int, int);
+  void (*enable)(unsigned);
+  void (*disable)(unsigned);
+  void (*clearColor)(float, float, float, float);
+  void (*clear)(unsigned);
+  void (*readPixels)(int, int, int, int, unsigned, unsigned, void*);
+  void (*pixelStorei)(unsigned, int);
+};
+constexpr unsigned kScissorTest = 0x0C11, kColorBufferBit = 0x4000, kDepthBufferBit = 0x0100,
+                   kRgba = 0x1908, kUnsignedByte = 0x1401, kPackAlignment = 0x0D05;
+
+template <class F>
+void load(F& f, const char* name) {
+  f = reinterpret_cast<F>(glfwGetProcAddress(name));
+  if (!f) throw std::runtime_error(std::string("OpenGL entry point missing: ") + name);
+}
+
+WindowGl loadWindowGl() {
+  WindowGl gl{};
+  load(gl.viewport, "glViewport");
+  load(gl.scissor, "glScissor");
+  load(gl.enable, "glEnable");
+  load(gl.disable, "glDisable");
+  load(gl.clearColor, "glClearColor");
+  load(gl.clear, "glClear");
+  load(gl.readPixels, "glReadPixels");
+  load(gl.pixelStorei, "glPixelStorei");
+  return gl;
+}
+
+bool parseOptions(int argc, char** argv, Options& o) {
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    auto value = [&]() -> std::string {
+      if (a + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      return argv[++a];
+    };
+    auto integer = [&](long lo, long hi) {
+      const std::string v = value();
+      std::size_t used = 0;
+      long n = 0;
+      try {
+        n = std::stol(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != v.size() || n < lo || n > hi) {
+        throw std::invalid_argument(arg + " " + v + ": expected an integer in [" +
+                                    std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      }
+      return n;
+    };
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(kUsage, stdout);
+      return false;
+    } else if (arg == "--scene") {
+      o.scene = value();
+    } else if (arg == "--frames") {
+      o.frames = integer(1, 100000000);
+    } else if (arg == "--screenshot") {
+      o.screenshot = value();
+    } else if (arg == "--script") {
+      o.script = value();
+    } else if (arg == "--width") {
+      o.width = int(integer(640, 8192));
+    } else if (arg == "--height") {
+      o.height = int(integer(480, 8192));
+    } else {
+      throw std::invalid_argument("unknown option '" + arg + "' (try --help)");
+    }
+  }
+  return true;
+}
+
+enum class Colouring { Force, Speed, None };
+
+/// Everything the panels edit, kept between frames.
+struct UiState {
+  Colouring colouring = Colouring::Force;
+  OrbitCamera orbit;
+  int sceneChoice = 1;
+  char checkpoint[256] = "granular-gui.ckpt";
+  char exportPath[256] = "granular-gui-view.png";
+  fs::path screenshotRequest;  ///< written after this frame is drawn
+  Material material;           ///< being edited
+  double topWallVelocity = 0;
+  int integrator = 0;  ///< 0 Gear5, 1 Verlet
+  double timeStep = 0;
+  int stepsPerUpdate = 20;
+  bool synced = false;  ///< edits initialised from the run
+};
+
+const char* kScenes[] = {"paper-mu0.toml", "paper-mu03.toml", "demo.toml"};
+
+void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float width,
+                   float height) {
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin("Controls", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  if (!ui.synced) {
+    ui.material = snap.material;
+    ui.topWallVelocity = snap.topWallVelocity;
+    ui.integrator = snap.integrator == Integrator::Gear5 ? 0 : 1;
+    ui.timeStep = snap.timeStep;
+    ui.stepsPerUpdate = snap.stepsPerUpdate;
+    ui.synced = true;
+  }
+  ImGui::TextWrapped("Scene: %s", fs::path(snap.sceneFile).filename().c_str());
+  ImGui::Combo("##scene", &ui.sceneChoice, kScenes, IM_ARRAYSIZE(kScenes));
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) {
+    runner.loadScene(fs::path(GRANULAR_SCENES_DIR) / kScenes[ui.sceneChoice]);
+    ui.synced = false;
+  }
+  ImGui::Separator();
+  if (ImGui::Button(snap.running ? "Pause" : "Run", ImVec2(70, 0))) {
+    snap.running ? runner.pause() : runner.run();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Step")) runner.step(1);
+  ImGui::SameLine();
+  if (ImGui::Button("Reset")) {
+    runner.reset();
+    ui.synced = false;
+  }
+  ImGui::SameLine();
+  ImGui::BeginDisabled(snap.stage == 2);
+  if (ImGui::Button("Stage 2")) runner.startStage2();
+  ImGui::EndDisabled();
+  if (ImGui::SliderInt("steps/update", &ui.stepsPerUpdate, 1, 500)) {
+    runner.setStepsPerUpdate(ui.stepsPerUpdate);
+  }
+  ImGui::Separator();
+  ImGui::Text("Material (applied on Enter)");
+  bool edited = false;
+  auto field = [&](const char* label, double* v, const char* format) {
+    ImGui::InputDouble(label, v, 0.0, 0.0, format);
+    edited |= ImGui::IsItemDeactivatedAfterEdit();
+  };
+  field("mu [-]", &ui.material.friction, "%.3f");
+  field("gamma_n [1/s]", &ui.material.normalDamping, "%.1f");
+  field("gamma_t [1/s]", &ui.material.tangentialDamping, "%.1f");
+  field("E [Pa]", &ui.material.youngModulus, "%.4g");
+  if (edited) runner.setMaterial(ui.material);
+  ImGui::InputDouble("top wall v [m/s]", &ui.topWallVelocity, 0.0, 0.0, "%.4f");
+  if (ImGui::IsItemDeactivatedAfterEdit()) runner.setTopWallVelocity(ui.topWallVelocity);
+  ImGui::Separator();
+  const char* integrators[] = {"gear5", "verlet"};
+  ImGui::Combo("integrator", &ui.integrator, integrators, 2);
+  ImGui::InputDouble("dt [s]", &ui.timeStep, 0.0, 0.0, "%.3e");
+  ImGui::Text("limit %.3e s", snap.maxTimeStep);
+  if (ImGui::Button("Apply integrator")) {
+    runner.setIntegrator(ui.integrator == 0 ? Integrator::Gear5 : Integrator::VelocityVerlet,
+                         ui.timeStep);
+  }
+  ImGui::Separator();
+  ImGui::Text("Colour by");
+  int colouring = int(ui.colouring);
+  ImGui::RadioButton("sum |F|", &colouring, 0);
+  ImGui::SameLine();
+  ImGui::RadioButton("speed", &colouring, 1);
+  ImGui::SameLine();
+  ImGui::RadioButton("none", &colouring, 2);
+  ui.colouring = Colouring(colouring);
+  if (ImGui::Button("Reset view")) ui.orbit.reset();
+  ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom");
+  ImGui::Separator();
+  ImGui::InputText("##ckpt", ui.checkpoint, sizeof ui.checkpoint);
+  if (ImGui::Button("Save checkpoint")) runner.saveCheckpoint(ui.checkpoint);
+  ImGui::SameLine();
+  if (ImGui::Button("Load checkpoint")) {
+    runner.loadCheckpoint(ui.checkpoint);
+    ui.synced = false;
+  }
+  ImGui::InputText("##png", ui.exportPath, sizeof ui.exportPath);
+  if (ImGui::Button("Save window as PNG")) ui.screenshotRequest = ui.exportPath;
+  ImGui::End();
+}
+
+void plotsPanel(const Snapshot& snap, float x, float y, float width, float height) {
+  ImGui::SetNextWindowPos(ImVec2(x, y));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin("Live plots", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  const LiveSeries& s = snap.series;
+  struct Plot {
+    const char* title;
+    const std::vector<float>* values;
+  };
+  const Plot plots[] = {
+      {"kinetic energy [J]", &s.kinetic}, {"sigma33 Eq.(1) [Pa]", &s.eq1[2]},
+      {"sigma33 Eq.(2) [Pa]", &s.eq2[2]}, {"R33 bottom [N]", &s.bottomForce},
+      {"sigma11 Eq.(1) [Pa]", &s.eq1[0]}, {"sigma11 Eq.(2) [Pa]", &s.eq2[0]},
+      {"sigma22 Eq.(2) [Pa]", &s.eq2[1]}, {"R33 top [N]", &s.topForce},
+  };
+  const int columns = 4;
+  const float plotWidth = (width - 20) / columns - 8;
+  const float plotHeight = (height - 50) / 2 - 22;
+  for (int k = 0; k < 8; ++k) {
+    if (k % columns) ImGui::SameLine();
+    ImGui::BeginGroup();
+    const std::vector<float>& v = *plots[k].values;
+    char overlay[64] = "";
+    if (!v.empty()) std::snprintf(overlay, sizeof overlay, "%.4g", double(v.back()));
+    ImGui::TextUnformatted(plots[k].title);
+    ImGui::PushID(k);
+    ImGui::PlotLines("##plot", v.data(), int(v.size()), 0, overlay, FLT_MAX, FLT_MAX,
+                     ImVec2(plotWidth, plotHeight));
+    ImGui::PopID();
+    ImGui::EndGroup();
+  }
+  if (!s.time.empty()) ImGui::TextDisabled("t from %.3f to %.3f s", s.time.front(), s.time.back());
+  ImGui::End();
+}
+
+void statusBar(const Snapshot& snap, double framesPerSecond, float y, float width, float height) {
+  ImGui::SetNextWindowPos(ImVec2(0, y));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin(
+      "Status", nullptr,
+      ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
+  ImGui::Text(
+      "t = %.4f s | stage %d | %s | %.0f steps/s | %zu contacts + %zu wall | energy balance "
+      "%+.2e | %.0f frames/s%s%s",
+      snap.time, snap.stage, snap.running ? "running" : "paused", snap.stepsPerSecond,
+      snap.particleContacts, snap.wallContacts, snap.energyBalanceError, framesPerSecond,
+      snap.message.empty() ? "" : " | ", snap.message.c_str());
+  ImGui::End();
+}
+
+/// Colours per particle for the current colouring, and the colour bar's range.
+std::vector<render::Rgba> colours(const Snapshot& snap, Colouring c, double& top) {
+  std::vector<render::Rgba> out;
+  top = 0;
+  if (c == Colouring::None) return out;
+  const std::vector<double>& v = c == Colouring::Force ? snap.forceSum : snap.speed;
+  for (double x : v) top = std::max(top, x);
+  out.reserve(v.size());
+  for (double x : v) out.push_back(render::viridis(top > 0 ? x / top : 0.0));
+  return out;
+}
+
+void colourBar(Colouring c, double top, float x, float y) {
+  if (c == Colouring::None) return;
+  ImDrawList* draw = ImGui::GetForegroundDrawList();
+  const float width = 18, height = 200;
+  for (int k = 0; k < 50; ++k) {
+    const render::Rgba a = render::viridis(1.0 - k / 50.0);
+    draw->AddRectFilled(ImVec2(x, y + k * height / 50),
+                        ImVec2(x + width, y + (k + 1) * height / 50), IM_COL32(a.r, a.g, a.b, 255));
+  }
+  draw->AddRect(ImVec2(x, y), ImVec2(x + width, y + height), IM_COL32(40, 40, 40, 255));
+  char label[64];
+  std::snprintf(label, sizeof label, "%.3g %s", top, c == Colouring::Force ? "N" : "m/s");
+  draw->AddText(ImVec2(x + width + 4, y - 6), IM_COL32(20, 20, 20, 255), label);
+  draw->AddText(ImVec2(x + width + 4, y + height - 8), IM_COL32(20, 20, 20, 255), "0");
+  draw->AddText(ImVec2(x, y + height + 6), IM_COL32(20, 20, 20, 255),
+                c == Colouring::Force ? "sum |F_ij|" : "speed");
+}
+
+void writeScreenshot(const WindowGl& gl, int width, int height, const fs::path& file) {
+  render::Image image(width, height);
+  std::vector<std::uint8_t> rows(std::size_t(width) * height * 4);
+  gl.pixelStorei(kPackAlignment, 1);
+  gl.readPixels(0, 0, width, height, kRgba, kUnsignedByte, rows.data());
+  for (int y = 0; y < height; ++y) {  // GL's rows run bottom-up
+    std::memcpy(&image.pixels[std::size_t(y) * width * 4],
+                &rows[std::size_t(height - 1 - y) * width * 4], std::size_t(width) * 4);
+  }
+  for (std::size_t k = 3; k < image.pixels.size(); k += 4) image.pixels[k] = 255;
+  render::writePng(image, file, 96.0, 9);  // a screen at 96 dpi; small files for documents
+}
+
+/// Carries out the script one command per frame. Returns false when it asks to quit.
+class ScriptPlayer {
+ public:
+  explicit ScriptPlayer(std::vector<ScriptCommand> commands) : commands_(std::move(commands)) {}
+
+  bool advance(SimRunner& runner, UiState& ui, const Snapshot& snap) {
+    if (waitFrames_ > 0) {
+      --waitFrames_;
+      return true;
+    }
+    if (waitSteps_) {
+      if (runner.steps() < waitSteps_) {
+        if (std::chrono::steady_clock::now() > deadline_) {
+          throw std::runtime_error("script: wait-steps timed out after 600 s");
+        }
+        return true;
+      }
+      waitSteps_ = 0;
+    }
+    if (next_ >= commands_.size()) return true;
+    const ScriptCommand& c = commands_[next_++];
+    const double x =
+        c.argument.empty() || !std::isdigit(c.argument.back()) ? 0.0 : std::stod(c.argument);
+    Material m = snap.material;
+    if (c.verb == "run")
+      runner.run();
+    else if (c.verb == "pause")
+      runner.pause();
+    else if (c.verb == "reset")
+      runner.reset();
+    else if (c.verb == "stage2")
+      runner.startStage2();
+    else if (c.verb == "step")
+      runner.step(int(x));
+    else if (c.verb == "speed")
+      runner.setStepsPerUpdate(int(x));
+    else if (c.verb == "wall-velocity")
+      runner.setTopWallVelocity(x);
+    else if (c.verb == "frames")
+      waitFrames_ = long(x);
+    else if (c.verb == "screenshot")
+      ui.screenshotRequest = c.argument;
+    else if (c.verb == "load-checkpoint")
+      runner.loadCheckpoint(c.argument);
+    else if (c.verb == "save-checkpoint")
+      runner.saveCheckpoint(c.argument);
+    else if (c.verb == "quit")
+      return false;
+    else if (c.verb == "colour") {
+      ui.colouring = c.argument == "force"   ? Colouring::Force
+                     : c.argument == "speed" ? Colouring::Speed
+                                             : Colouring::None;
+    } else if (c.verb == "wait-steps") {
+      waitSteps_ = runner.steps() + std::uint64_t(x);
+      deadline_ = std::chrono::steady_clock::now() + std::chrono::seconds(600);
+    } else {  // material fields
+      if (c.verb == "mu") m.friction = x;
+      if (c.verb == "gamma-n") m.normalDamping = x;
+      if (c.verb == "gamma-t") m.tangentialDamping = x;
+      if (c.verb == "youngs-modulus") m.youngModulus = x;
+      runner.setMaterial(m);
+    }
+    runner.flush();  // the next frame shows the command's effect
+    ui.synced = false;
+    return true;
+  }
+
+ private:
+  std::vector<ScriptCommand> commands_;
+  std::size_t next_ = 0;
+  long waitFrames_ = 0;
+  std::uint64_t waitSteps_ = 0;
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+int runWindow(const Options& options) {
+  ScriptPlayer script(parseScript(options.script));
+  SimRunner runner(options.scene);  // a bad scene fails before any window opens
+
+  glfwSetErrorCallback([](int code, const char* text) {
+    std::fprintf(stderr, "granular-gui: GLFW error %d: %s\n", code, text);
+  });
+  if (!glfwInit()) {
+    std::fprintf(stderr,
+                 "granular-gui: cannot open a window (no display? DISPLAY=%s). The headless "
+                 "figures need none: granular paper --out DIR\n",
+                 std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset");
+    return 2;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  GLFWwindow* window =
+      glfwCreateWindow(options.width, options.height, "granular", nullptr, nullptr);
+  if (!window) {
+    std::fprintf(stderr, "granular-gui: no OpenGL 3.3 core context on this display\n");
+    glfwTerminate();
+    return 2;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(options.frames > 0 || !options.script.empty() ? 0 : 1);
+  int status = 0;
+  {
+    const WindowGl gl = loadWindowGl();
+    render::ParticleRenderer renderer(reinterpret_cast<render::GlProcLoader>(glfwGetProcAddress));
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working folder
+    ImGui::StyleColorsDark();
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL3_Init("#version 330 core");
+
+    UiState ui;
+    Snapshot snap;
+    runner.latest(snap);
+    std::uint64_t uploaded = 0;
+    Colouring uploadedColouring = ui.colouring;
+    double barTop = 0;
+    long frame = 0;
+    auto fpsStart = std::chrono::steady_clock::now();
+    long fpsFrames = 0;
+    double framesPerSecond = 0, meanFramesPerSecond = 0;
+    const auto start = fpsStart;
+    bool quit = false;
+    while (!glfwWindowShouldClose(window) && !quit) {
+      glfwPollEvents();
+      if (!script.advance(runner, ui, snap)) quit = true;
+      runner.latest(snap);
+      int fbWidth = 0, fbHeight = 0, winWidth = 0, winHeight = 0;
+      glfwGetFramebufferSize(window, &fbWidth, &fbHeight);
+      glfwGetWindowSize(window, &winWidth, &winHeight);
+      const float scale = winWidth > 0 ? float(fbWidth) / float(winWidth) : 1.0f;
+
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      const float panelWidth = 340, statusHeight = 30, plotsHeight = 250;
+      const float viewX = panelWidth, viewW = float(winWidth) - panelWidth;
+      const float viewH = float(winHeight) - statusHeight - plotsHeight;
+      controlsPanel(runner, snap, ui, panelWidth, float(winHeight) - statusHeight);
+      plotsPanel(snap, viewX, viewH, viewW, plotsHeight);
+      statusBar(snap, framesPerSecond, float(winHeight) - statusHeight, float(winWidth),
+                statusHeight);
+
+      // Mouse in the 3-D view: orbit, pan, zoom.
+      ImGuiIO& io = ImGui::GetIO();
+      const ImVec2 mouse = io.MousePos;
+      const bool inView = mouse.x >= viewX && mouse.y >= 0 && mouse.y < viewH;
+      if (inView && !io.WantCaptureMouse) {
+        if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+          ui.orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
+        }
+        if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
+          ui.orbit.pan(io.MouseDelta.x, io.MouseDelta.y, int(viewH));
+        }
+        if (io.MouseWheel != 0) ui.orbit.zoomBy(io.MouseWheel);
+      }
+      if (snap.version != uploaded || ui.colouring != uploadedColouring) {
+        const std::vector<render::Rgba> c = colours(snap, ui.colouring, barTop);
+        render::ParticleScene scene;
+        scene.centres = snap.centres;
+        scene.radii = snap.radii;
+        scene.colours = c;
+        Vec3 top = snap.boxMax;
+        if (snap.topWallZ) top.z() = *snap.topWallZ;
+        scene.lines = render::boxEdges(snap.boxMin, top, !snap.topWallZ);
+        renderer.upload(scene);
+        uploaded = snap.version;
+        uploadedColouring = ui.colouring;
+      }
+      colourBar(ui.colouring, barTop, viewX + viewW - 110, 30);
+      ImGui::Render();
+
+      // The 3-D view first, in its region; the panels over it.
+      gl.viewport(0, 0, fbWidth, fbHeight);
+      gl.clearColor(0.1f, 0.1f, 0.1f, 1.0f);
+      gl.clear(kColorBufferBit | kDepthBufferBit);
+      const int vx = int(viewX * scale), vy = int(plotsHeight * scale + statusHeight * scale);
+      const int vw = std::max(1, int(viewW * scale)), vh = std::max(1, int(viewH * scale));
+      gl.viewport(vx, vy, vw, vh);
+      gl.scissor(vx, vy, vw, vh);
+      gl.enable(kScissorTest);
+      gl.clearColor(1.0f, 1.0f, 1.0f, 1.0f);
+      gl.clear(kColorBufferBit | kDepthBufferBit);
+      const Vec3 boxTop =
+          snap.topWallZ ? Vec3(snap.boxMax.x(), snap.boxMax.y(), *snap.topWallZ) : snap.boxMax;
+      renderer.draw(ui.orbit.camera(snap.boxMin, boxTop, double(vw) / vh), vw, vh, scale);
+      gl.disable(kScissorTest);
+      gl.viewport(0, 0, fbWidth, fbHeight);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+
+      ++frame;
+      if (options.frames > 0 && frame >= options.frames) quit = true;
+      if (!ui.screenshotRequest.empty()) {
+        writeScreenshot(gl, fbWidth, fbHeight, ui.screenshotRequest);
+        ui.screenshotRequest.clear();
+      }
+      if (quit && !options.screenshot.empty()) {
+        writeScreenshot(gl, fbWidth, fbHeight, options.screenshot);
+      }
+      glfwSwapBuffers(window);
+      ++fpsFrames;
+      const auto now = std::chrono::steady_clock::now();
+      const double elapsed = std::chrono::duration<double>(now - fpsStart).count();
+      if (elapsed >= 0.5) {
+        framesPerSecond = fpsFrames / elapsed;
+        fpsStart = now;
+        fpsFrames = 0;
+      }
+      meanFramesPerSecond =
+          frame / std::max(1e-9, std::chrono::duration<double>(now - start).count());
+    }
+    runner.pause();
+    runner.flush();
+    runner.latest(snap);
+    std::printf(
+        "granular-gui: %ld frames, %.1f frames/s; stage %d, t = %.6f s, %llu steps, mu = %g, "
+        "%zu contacts%s%s\n",
+        frame, meanFramesPerSecond, snap.stage, snap.time,
+        static_cast<unsigned long long>(snap.steps), snap.material.friction, snap.particleContacts,
+        snap.message.empty() ? "" : "; last message: ", snap.message.c_str());
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }  // the renderer's GL objects go before the context
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    Options options;
+    if (!parseOptions(argc, argv, options)) return 0;
+    return runWindow(options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "granular-gui: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,22 @@
+#pragma once
+/// Scripted mode: the buttons pressed from a command line, for tests and demos.
+///
+/// A script is commands separated by ';', carried out one per frame in order:
+///   run | pause | reset | stage2 | step N | speed N (steps per update) | mu X | gamma-n X |
+///   gamma-t X | youngs-modulus X | wall-velocity X (m/s) | colour force|speed|none |
+///   frames N (wait N frames) | wait-steps N (wait until N more steps are done) |
+///   screenshot FILE | load-checkpoint FILE | save-checkpoint FILE | quit
+#include <string>
+#include <vector>
+
+namespace granular::gui {
+
+struct ScriptCommand {
+  std::string verb;
+  std::string argument;  ///< empty for verbs without one
+};
+
+/// Parses `text`; throws std::invalid_argument naming the bad command and what was expected.
+std::vector<ScriptCommand> parseScript(const std::string& text);
+
+}  // namespace granular::gui

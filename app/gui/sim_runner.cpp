@@ -1,0 +1,302 @@
+#include "sim_runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+
+#include "granular/checkpoint.hpp"
+#include "granular/contact_theory.hpp"
+#include "granular/error.hpp"
+#include "granular/stage.hpp"
+#include "granular/stress.hpp"
+
+namespace granular::gui {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Keeps every other point once a series is full, so a long run still fits.
+void halve(std::vector<float>& v) {
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < v.size(); i += 2) v[k++] = v[i];
+  v.resize(k);
+}
+
+}  // namespace
+
+void LiveSeries::clear() {
+  for (std::vector<float>* v : {&time, &kinetic, &topForce, &bottomForce}) v->clear();
+  for (int a = 0; a < 3; ++a) {
+    eq1[a].clear();
+    eq2[a].clear();
+  }
+}
+
+SimRunner::SimRunner(const std::filesystem::path& scene) {
+  build(scene);  // on this thread: a bad scene throws to the caller
+  publish();
+  thread_ = std::thread([this] { loop(); });
+}
+
+SimRunner::~SimRunner() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void SimRunner::build(const std::filesystem::path& scene) {
+  Scene loaded = granular::loadScene(scene);
+  Simulation sim = buildSimulation(loaded);
+  if (!loaded.stages.empty()) beginStage(sim, loaded.stages.front());
+  scene_ = std::move(loaded);
+  sim_.emplace(std::move(sim));
+  stage_ = 1;
+  running_ = false;
+  pendingSteps_ = 0;
+  topWallVelocity_ = 0;
+  if (scene_.stages.size() > 1) {
+    for (const WallMotion& m : scene_.stages[1].wallMotions) {
+      if (m.wall == "top") topWallVelocity_ = m.velocity.z();
+    }
+  }
+  const EnergyBalance e = sim_->energy();
+  energyStart_ = e.total();
+  // Scale of the balance error: the potential energy the bed can lose falling one box height.
+  double weight = 0;
+  for (double m : sim_->particles().mass) weight += m * sim_->config().gravity.norm();
+  energyScale_ =
+      std::max(1e-300, weight * (scene_.box.max.z() - scene_.box.min.z()) + std::abs(e.total()));
+  series_.clear();
+  lastSample_ = -1;
+  message_.clear();
+}
+
+void SimRunner::send(std::function<void()> command) {
+  {
+    std::lock_guard lock(mutex_);
+    commands_.push_back(std::move(command));
+    ++sent_;
+  }
+  wake_.notify_all();
+}
+
+void SimRunner::run() {
+  send([this] { running_ = true; });
+}
+void SimRunner::pause() {
+  send([this] {
+    running_ = false;
+    pendingSteps_ = 0;
+  });
+}
+void SimRunner::step(int count) {
+  send([this, count] {
+    running_ = false;
+    pendingSteps_ += std::max(0, count);
+  });
+}
+void SimRunner::reset() {
+  send([this] { build(scene_.sourceFile); });
+}
+void SimRunner::loadScene(const std::filesystem::path& scene) {
+  send([this, scene] { build(scene); });
+}
+void SimRunner::startStage2() {
+  send([this] {
+    if (stage_ == 2) return;
+    if (scene_.stages.size() < 2) throw ConfigError("this scene has no second stage");
+    StageSpec stage = scene_.stages[1];
+    for (WallMotion& m : stage.wallMotions) {
+      if (m.wall == "top") m.velocity.z() = topWallVelocity_;
+    }
+    beginStage(*sim_, stage);
+    stage_ = 2;
+    if (stage.resetClock) {  // the plots follow the stage's own clock
+      series_.clear();
+      lastSample_ = -1;
+    }
+  });
+}
+void SimRunner::setStepsPerUpdate(int steps) {
+  send([this, steps] { stepsPerUpdate_ = std::clamp(steps, 1, 100000); });
+}
+void SimRunner::setMaterial(const Material& material) {
+  send([this, material] { sim_->setMaterial(material); });
+}
+void SimRunner::setTopWallVelocity(double velocity) {
+  send([this, velocity] {
+    if (!std::isfinite(velocity)) throw ConfigError("top-wall velocity must be finite");
+    topWallVelocity_ = velocity;
+    const long top = sim_->findWall("top");
+    if (top >= 0) sim_->setWallVelocity(std::size_t(top), Vec3(0.0, 0.0, velocity));
+  });
+}
+void SimRunner::setIntegrator(Integrator integrator, double timeStep) {
+  send([this, integrator, timeStep] {
+    // Check both against the new integrator's limit before changing either.
+    const double limit = maxStableStep(sim_->contactScale(), integrator);
+    if (!(timeStep > 0.0 && timeStep <= limit)) {
+      throw ConfigError("time step " + std::to_string(timeStep) + " s is outside (0, " +
+                        std::to_string(limit) + "] s, the stable limit of this integrator");
+    }
+    if (timeStep < sim_->config().timeStep) sim_->setTimeStep(timeStep);
+    sim_->setIntegrator(integrator);
+    sim_->setTimeStep(timeStep);
+  });
+}
+void SimRunner::saveCheckpoint(const std::filesystem::path& file) {
+  send([this, file] {
+    writeCheckpoint(*sim_, file, fingerprintFile(scene_.sourceFile), std::to_string(stage_));
+    message_ = "saved " + file.string();
+  });
+}
+void SimRunner::loadCheckpoint(const std::filesystem::path& file) {
+  send([this, file] {
+    CheckpointContents c = readCheckpointWithData(file, fingerprintFile(scene_.sourceFile));
+    sim_.emplace(std::move(c.simulation));
+    stage_ = c.appData == "2" || sim_->findWall("top") >= 0 ? 2 : 1;
+    energyStart_ = sim_->energy().total();
+    running_ = false;
+    pendingSteps_ = 0;
+    series_.clear();
+    lastSample_ = -1;
+    message_ = "loaded " + file.string();
+  });
+}
+
+bool SimRunner::latest(Snapshot& out) {
+  std::lock_guard lock(mutex_);
+  if (published_.version == out.version) return false;
+  out = published_;
+  return true;
+}
+
+std::uint64_t SimRunner::steps() const {
+  std::lock_guard lock(mutex_);
+  return stepsPublished_;
+}
+
+void SimRunner::flush() {
+  std::unique_lock lock(mutex_);
+  const std::uint64_t target = sent_;
+  done_.wait(lock, [&] { return carried_ >= target; });
+}
+
+void SimRunner::loop() {
+  for (;;) {
+    std::deque<std::function<void()>> commands;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock,
+                 [&] { return quit_ || !commands_.empty() || running_ || pendingSteps_ > 0; });
+      if (quit_) return;
+      commands.swap(commands_);
+    }
+    for (auto& command : commands) {
+      try {
+        command();
+      } catch (const std::exception& e) {
+        message_ = e.what();
+      }
+    }
+    if (running_ || pendingSteps_ > 0) {
+      const int n = running_ ? stepsPerUpdate_ : std::min(pendingSteps_, stepsPerUpdate_);
+      const auto start = Clock::now();
+      try {
+        sim_->run(std::uint64_t(n));
+      } catch (const std::exception& e) {  // a broken state: stop, say why, keep the window
+        running_ = false;
+        message_ = e.what();
+      }
+      rateSteps_ += n;
+      rateSeconds_ += std::chrono::duration<double>(Clock::now() - start).count();
+      if (!running_) pendingSteps_ = std::max(0, pendingSteps_ - n);
+    }
+    // At most ~60 pictures a second while running; always after commands or when stopping.
+    const auto now = Clock::now();
+    if (!commands.empty() || !(running_ || pendingSteps_ > 0) ||
+        now - lastPublish_ >= std::chrono::milliseconds(15)) {
+      publish();
+      lastPublish_ = now;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      carried_ += commands.size();
+    }
+    done_.notify_all();
+  }
+}
+
+void SimRunner::publish() {
+  const Simulation& sim = *sim_;
+  Snapshot s;
+  s.sceneFile = scene_.sourceFile.string();
+  const Particles& p = sim.particles();
+  s.centres = p.position;
+  s.radii = p.radius;
+  s.forceSum = particleForceSums(sim);
+  s.speed.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) s.speed[i] = p.velocity[i].norm();
+  s.boxMin = scene_.box.min;
+  s.boxMax = scene_.box.max;
+  if (const long top = sim.findWall("top"); top >= 0) {
+    s.topWallZ = sim.walls()[std::size_t(top)].point.z();
+  }
+  s.time = sim.time();
+  s.steps = sim.stepCount();
+  if (rateSeconds_ > 0.2) {  // steps per second of stepping, over at least 0.2 s of it
+    stepsPerSecond_ = rateSteps_ / rateSeconds_;
+    rateSteps_ = rateSeconds_ = 0;
+  }
+  s.stepsPerSecond = stepsPerSecond_;
+  s.particleContacts = sim.counters().particleContacts;
+  s.wallContacts = sim.counters().wallContacts;
+  s.stage = stage_;
+  s.running = running_;
+  const EnergyBalance e = sim.energy();
+  s.kinetic = e.kinetic();
+  s.energyBalanceError = (e.total() - energyStart_) / energyScale_;
+  s.material = sim.config().material;
+  s.integrator = sim.config().integrator;
+  s.timeStep = sim.config().timeStep;
+  s.maxTimeStep = maxStableStep(sim.contactScale(), sim.config().integrator);
+  s.topWallVelocity = topWallVelocity_;
+  s.stepsPerUpdate = stepsPerUpdate_;
+  s.message = message_;
+
+  // The plots: a sample at most every 1/400 of a simulated second.
+  if (lastSample_ < 0 || s.time - lastSample_ >= 2.5e-3 || s.time < lastSample_) {
+    lastSample_ = s.time;
+    const BoxStress box = measureBox(sim);
+    series_.time.push_back(float(s.time));
+    series_.kinetic.push_back(float(s.kinetic));
+    series_.topForce.push_back(float(box.topForce));
+    series_.bottomForce.push_back(float(box.bottomForce));
+    for (int a = 0; a < 3; ++a) {
+      series_.eq1[a].push_back(float(box.eq1(a, a)));
+      series_.eq2[a].push_back(float(box.eq2[a]));
+    }
+    if (series_.time.size() >= LiveSeries::kMaxPoints) {
+      for (std::vector<float>* v :
+           {&series_.time, &series_.kinetic, &series_.topForce, &series_.bottomForce}) {
+        halve(*v);
+      }
+      for (int a = 0; a < 3; ++a) {
+        halve(series_.eq1[a]);
+        halve(series_.eq2[a]);
+      }
+    }
+  }
+  s.series = series_;
+  std::lock_guard lock(mutex_);
+  s.version = ++version_;
+  stepsPublished_ = s.steps;
+  published_ = std::move(s);
+}
+
+}  // namespace granular::gui

@@ -1,0 +1,125 @@
+#pragma once
+/// The GUI's simulation, on a thread of its own: the window sends it commands and reads whole
+/// snapshots, so the picture never mixes two states and a slow step never blocks a frame.
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "granular/scene.hpp"
+#include "granular/simulation.hpp"
+
+namespace granular::gui {
+
+/// Time series for the live plots, sampled at most every `interval` of simulated time and
+/// halved (every other point kept) when they reach `kMaxPoints`.
+struct LiveSeries {
+  static constexpr std::size_t kMaxPoints = 4000;
+  std::vector<float> time;                   ///< [s]
+  std::vector<float> kinetic;                ///< kinetic energy [J]
+  std::vector<float> topForce, bottomForce;  ///< R33 of the top and bottom walls [N]
+  std::vector<float> eq1[3], eq2[3];         ///< σ11, σ22, σ33 by Eq. (1) and Eq. (2) [Pa]
+  void clear();
+};
+
+/// One consistent picture of the run, published by the simulation thread.
+struct Snapshot {
+  std::uint64_t version = 0;  ///< grows with every publication
+  std::string sceneFile;
+  std::vector<Vec3> centres;                          ///< [m]
+  std::vector<double> radii;                          ///< [m]
+  std::vector<double> forceSum;                       ///< Σ_j |F_ij| per particle [N]
+  std::vector<double> speed;                          ///< |v| per particle [m/s]
+  Vec3 boxMin = Vec3::Zero(), boxMax = Vec3::Ones();  ///< [m]
+  std::optional<double> topWallZ;                     ///< [m], once stage 2 placed it
+  double time = 0;                                    ///< simulated time [s]
+  std::uint64_t steps = 0;
+  double stepsPerSecond = 0;
+  std::size_t particleContacts = 0, wallContacts = 0;
+  int stage = 1;  ///< 1: settling under gravity, 2: compaction by the top wall
+  bool running = false;
+  double kinetic = 0;  ///< [J]
+  /// Drift of the energy balance since the start (or the last load), over the energy a fall of
+  /// the whole bed through the box height releases [-].
+  double energyBalanceError = 0;
+  Material material;
+  Integrator integrator = Integrator::Gear5;
+  double timeStep = 0;         ///< [s]
+  double maxTimeStep = 0;      ///< the core's limit for this integrator [s]
+  double topWallVelocity = 0;  ///< vertical, of stage 2 [m/s]
+  int stepsPerUpdate = 20;
+  LiveSeries series;
+  std::string message;  ///< the last refusal or error, for the status line
+};
+
+class SimRunner {
+ public:
+  /// Loads `scene` (loadScene; SceneError/ConfigError propagate) and starts the thread paused.
+  explicit SimRunner(const std::filesystem::path& scene);
+  ~SimRunner();
+  SimRunner(const SimRunner&) = delete;
+  SimRunner& operator=(const SimRunner&) = delete;
+
+  // Commands: queued, carried out by the simulation thread between steps. A refused one (a
+  // value out of range, a step above the limit) leaves the run as it was and sets `message`.
+  void run();
+  void pause();
+  void step(int count);  ///< that many steps, then paused
+  void reset();          ///< the scene's initial state, stage 1
+  void loadScene(const std::filesystem::path& scene);
+  void startStage2();  ///< the scene's second stage set-up (top wall on the surface, its motion)
+  void setStepsPerUpdate(int steps);
+  void setMaterial(const Material& material);
+  void setTopWallVelocity(double velocity);  ///< [m/s], negative moves it down
+  void setIntegrator(Integrator integrator, double timeStep);
+  void saveCheckpoint(const std::filesystem::path& file);
+  void loadCheckpoint(const std::filesystem::path& file);
+
+  /// Copies the newest snapshot into `out` if it is newer than out.version; returns whether.
+  bool latest(Snapshot& out);
+  /// Steps taken so far (cheap, for scripts waiting on the run).
+  std::uint64_t steps() const;
+  /// Blocks until every command sent so far has been carried out and published.
+  void flush();
+
+ private:
+  void send(std::function<void()> command);
+  void loop();
+  void publish();
+  void build(const std::filesystem::path& scene);
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::deque<std::function<void()>> commands_;
+  std::uint64_t sent_ = 0, carried_ = 0;
+  bool quit_ = false;
+  Snapshot published_;
+  std::uint64_t stepsPublished_ = 0;
+
+  // Owned by the simulation thread.
+  Scene scene_;
+  std::optional<Simulation> sim_;
+  bool running_ = false;
+  int pendingSteps_ = 0;
+  int stepsPerUpdate_ = 20;
+  int stage_ = 1;
+  double topWallVelocity_ = 0;
+  double energyStart_ = 0, energyScale_ = 0;
+  std::chrono::steady_clock::time_point lastPublish_;
+  LiveSeries series_;
+  double lastSample_ = -1;
+  std::string message_;
+  std::uint64_t version_ = 0;
+  double rateSteps_ = 0, rateSeconds_ = 0, stepsPerSecond_ = 0;
+
+  std::thread thread_;
+};
+
+}  // namespace granular::gui

@@ -1,0 +1,167 @@
+/// The GUI's window-free parts (issue 8): the simulation thread steps exactly as the core does,
+/// publishes whole snapshots, refuses bad commands with a message and leaves the run as it
+/// was; the script parser and the orbit camera.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include "granular/stage.hpp"
+#include "gui_script.hpp"
+#include "orbit_camera.hpp"
+#include "sim_runner.hpp"
+
+using namespace granular;
+using namespace granular::gui;
+
+namespace {
+
+const std::filesystem::path kDemo =
+    std::filesystem::path(GRANULAR_SOURCE_DIR) / "assets/scenes/demo.toml";
+
+Snapshot latest(SimRunner& runner) {
+  runner.flush();
+  Snapshot s;
+  runner.latest(s);
+  return s;
+}
+
+}  // namespace
+
+TEST(GuiRunner, StepsExactlyAsTheCoreDoes) {
+  SimRunner runner(kDemo);
+  runner.step(150);
+  runner.flush();
+  // step() runs in updates of stepsPerUpdate (20): wait for the last of them.
+  Snapshot s;
+  for (int k = 0; k < 1000 && s.steps < 150; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  ASSERT_EQ(s.steps, 150u);
+  EXPECT_FALSE(s.running);
+
+  Scene scene = loadScene(kDemo);
+  Simulation direct = buildSimulation(scene);
+  beginStage(direct, scene.stages.front());
+  direct.run(150);
+  ASSERT_EQ(s.centres.size(), direct.particles().size());
+  EXPECT_EQ(s.radii.size(), s.centres.size());
+  EXPECT_EQ(s.forceSum.size(), s.centres.size());
+  for (std::size_t i = 0; i < s.centres.size(); ++i) {
+    EXPECT_EQ(s.centres[i], direct.particles().position[i]) << "particle " << i;
+  }
+  EXPECT_DOUBLE_EQ(s.time, direct.time());
+}
+
+TEST(GuiRunner, RefusedCommandsLeaveTheRunAsItWasAndSayWhy) {
+  SimRunner runner(kDemo);
+  const Snapshot before = latest(runner);
+  Material bad = before.material;
+  bad.friction = -1;
+  runner.setMaterial(bad);
+  Snapshot s = latest(runner);
+  EXPECT_NE(s.message.find("friction"), std::string::npos) << s.message;
+  EXPECT_EQ(s.material.friction, before.material.friction);
+
+  runner.setIntegrator(Integrator::VelocityVerlet, 10 * s.maxTimeStep);
+  s = latest(runner);
+  EXPECT_NE(s.message.find("stable limit"), std::string::npos) << s.message;
+  EXPECT_EQ(s.integrator, before.integrator);
+  EXPECT_EQ(s.timeStep, before.timeStep);
+
+  Material rough = before.material;
+  rough.friction = 0.6;
+  runner.setMaterial(rough);
+  EXPECT_EQ(latest(runner).material.friction, 0.6);
+}
+
+TEST(GuiRunner, SecondStagePlacesTheTopWallAndMovesItAtTheChosenSpeed) {
+  SimRunner runner(kDemo);
+  runner.setTopWallVelocity(-0.02);
+  runner.startStage2();
+  Snapshot s = latest(runner);
+  ASSERT_EQ(s.stage, 2);
+  ASSERT_TRUE(s.topWallZ.has_value());
+  EXPECT_EQ(s.time, 0.0);  // the paper's stage 2 starts its own clock
+  const double z0 = *s.topWallZ;
+  runner.step(100);
+  for (int k = 0; k < 1000 && s.steps < 100; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  ASSERT_EQ(s.steps, 100u);
+  EXPECT_NEAR(*s.topWallZ - z0, -0.02 * s.time, 1e-12);
+}
+
+TEST(GuiRunner, RunAndPauseAndCheckpointRoundTrip) {
+  const auto file = std::filesystem::temp_directory_path() / "granular-gui-runner-test.ckpt";
+  SimRunner runner(kDemo);
+  runner.run();
+  Snapshot s;
+  for (int k = 0; k < 2000 && s.steps < 100; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  runner.pause();
+  s = latest(runner);
+  EXPECT_FALSE(s.running);
+  EXPECT_GE(s.steps, 100u);
+  runner.saveCheckpoint(file);
+  const Snapshot saved = latest(runner);
+  runner.step(40);
+  for (int k = 0; k < 1000 && s.steps < saved.steps + 40; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  runner.loadCheckpoint(file);
+  s = latest(runner);
+  EXPECT_EQ(s.steps, saved.steps);
+  EXPECT_EQ(s.centres, saved.centres);
+  std::filesystem::remove(file);
+}
+
+TEST(GuiScript, ParsesCommandsAndRefusesMistakesByName) {
+  const auto c = parseScript("run; wait-steps 300 ;mu 0.5;; colour speed; screenshot a.png; quit");
+  ASSERT_EQ(c.size(), 6u);
+  EXPECT_EQ(c[1].verb, "wait-steps");
+  EXPECT_EQ(c[1].argument, "300");
+  EXPECT_EQ(c[4].argument, "a.png");
+  auto refusal = [](const std::string& text) {
+    try {
+      parseScript(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(refusal("jump 3").find("unknown command 'jump'"), std::string::npos);
+  EXPECT_NE(refusal("mu lots").find("'mu' needs a number"), std::string::npos);
+  EXPECT_NE(refusal("colour pink").find("expected force, speed or none"), std::string::npos);
+  EXPECT_NE(refusal("run now").find("takes no argument"), std::string::npos);
+}
+
+TEST(GuiCamera, StartsAtTheFiguresFramingAndZoomsAndOrbitsAboutTheTarget) {
+  const Vec3 lo(0, 0, 0), hi(0.5, 0.5, 1.0);
+  OrbitCamera orbit;
+  const render::Camera start = orbit.camera(lo, hi, 1.5);
+  const render::Camera fitted =
+      render::fitCamera(lo, hi, orbit.azimuthDeg, orbit.elevationDeg, 30.0, 1.5);
+  EXPECT_LT((start.eye - fitted.eye).norm(), 1e-12);
+  orbit.zoomBy(5);  // 1.15^5 closer
+  const render::Camera zoomed = orbit.camera(lo, hi, 1.5);
+  EXPECT_NEAR((zoomed.eye - zoomed.target).norm() * std::pow(1.15, 5),
+              (start.eye - start.target).norm(), 1e-9);
+  orbit.orbit(200, -50);  // about the box centre, framed anew from the new direction
+  const render::Camera turned = orbit.camera(lo, hi, 1.5);
+  EXPECT_LT((turned.target - zoomed.target).norm(), 1e-12);
+  EXPECT_GT((turned.eye - zoomed.eye).norm(), 0.1);
+  orbit.pan(100, 0, 500);  // the target moves sideways, the eye with it
+  const render::Camera panned = orbit.camera(lo, hi, 1.5);
+  EXPECT_GT((panned.target - turned.target).norm(), 0.01);
+  EXPECT_NEAR((panned.eye - panned.target).norm(), (turned.eye - turned.target).norm(), 1e-9);
+  orbit.reset();
+  EXPECT_LT((orbit.camera(lo, hi, 1.5).eye - start.eye).norm(), 1e-12);
+}
