@@ -3,12 +3,17 @@
 /// was; the script parser and the orbit camera.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <thread>
 
+#include "figure_export.hpp"
+#include "granular/render/image.hpp"
 #include "granular/stage.hpp"
+#include "granular/stress.hpp"
 #include "gui_script.hpp"
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
@@ -32,21 +37,21 @@ Snapshot latest(SimRunner& runner) {
 
 TEST(GuiRunner, StepsExactlyAsTheCoreDoes) {
   SimRunner runner(kDemo);
-  runner.step(150);
+  runner.setStepsPerUpdate(130);  // not a divisor of the steps asked: the last update is short
+  runner.step(1200);               // 0.2 s: the spheres have landed
   runner.flush();
-  // step() runs in updates of stepsPerUpdate (20): wait for the last of them.
   Snapshot s;
-  for (int k = 0; k < 1000 && s.steps < 150; ++k) {
+  for (int k = 0; k < 2000 && s.steps < 1200; ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     runner.latest(s);
   }
-  ASSERT_EQ(s.steps, 150u);
+  ASSERT_EQ(s.steps, 1200u);
   EXPECT_FALSE(s.running);
 
   Scene scene = loadScene(kDemo);
   Simulation direct = buildSimulation(scene);
   beginStage(direct, scene.stages.front());
-  direct.run(150);
+  direct.run(1200);
   ASSERT_EQ(s.centres.size(), direct.particles().size());
   EXPECT_EQ(s.radii.size(), s.centres.size());
   EXPECT_EQ(s.forceSum.size(), s.centres.size());
@@ -54,6 +59,46 @@ TEST(GuiRunner, StepsExactlyAsTheCoreDoes) {
     EXPECT_EQ(s.centres[i], direct.particles().position[i]) << "particle " << i;
   }
   EXPECT_DOUBLE_EQ(s.time, direct.time());
+
+  // Per-particle σ33 times the particle's volume sums to the box's Eq. (1) σ33 times its volume:
+  // both are Σ_c F_z (C_z - z_i) over every contact.
+  ASSERT_EQ(s.stress33.size(), s.centres.size());
+  double sum = 0;
+  for (std::size_t i = 0; i < s.radii.size(); ++i) {
+    sum += s.stress33[i] * 4.0 / 3.0 * std::numbers::pi * std::pow(s.radii[i], 3);
+  }
+  const double volume = 1.0;
+  const double eq1 = volumeAveragedStress(direct, volume)(2, 2) * volume;
+  EXPECT_LT(eq1, 0.0);  // the bed has landed: compression
+  EXPECT_NEAR(sum, eq1, 1e-9 * std::abs(eq1));
+}
+
+TEST(GuiRunner, ExportsTheFiguresOfTheRunOnScreen) {
+  SimRunner runner(kDemo);
+  runner.setStepsPerUpdate(200);
+  runner.step(600);
+  Snapshot s;
+  for (int k = 0; k < 2000 && s.steps < 600; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  const auto folder = std::filesystem::temp_directory_path() / "granular-gui-figures-test";
+  std::filesystem::remove_all(folder);
+  const std::vector<std::filesystem::path> files = exportFigures(s, folder);
+  ASSERT_EQ(files.size(), 6u);
+  for (const auto& file : files) {
+    const render::Image image = render::readPng(file);
+    EXPECT_GT(image.width, 300) << file;
+    long coloured = 0;
+    for (int y = 0; y < image.height; ++y) {
+      for (int x = 0; x < image.width; ++x) {
+        const render::Rgba c = image.at(x, y);
+        coloured += std::max({c.r, c.g, c.b}) - std::min({c.r, c.g, c.b}) > 50;
+      }
+    }
+    EXPECT_GT(coloured, 500) << file << ": no coloured particles or curves";
+  }
+  std::filesystem::remove_all(folder);
 }
 
 TEST(GuiRunner, RefusedCommandsLeaveTheRunAsItWasAndSayWhy) {
@@ -139,7 +184,8 @@ TEST(GuiScript, ParsesCommandsAndRefusesMistakesByName) {
   };
   EXPECT_NE(refusal("jump 3").find("unknown command 'jump'"), std::string::npos);
   EXPECT_NE(refusal("mu lots").find("'mu' needs a number"), std::string::npos);
-  EXPECT_NE(refusal("colour pink").find("expected force, speed or none"), std::string::npos);
+  EXPECT_NE(refusal("colour pink").find("expected force, speed, stress or none"),
+            std::string::npos);
   EXPECT_NE(refusal("run now").find("takes no argument"), std::string::npos);
 }
 

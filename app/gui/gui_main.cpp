@@ -13,9 +13,11 @@
 #include <cstring>
 #include <exception>
 #include <filesystem>
+#include <future>
 #include <string>
 #include <vector>
 
+#include "figure_export.hpp"
 #include "granular/render/colormap.hpp"
 #include "granular/render/image.hpp"
 #include "granular/render/particle_view.hpp"
@@ -37,8 +39,10 @@ constexpr const char* kUsage =
     "  --screenshot FILE  write the window as a PNG when quitting\n"
     "  --script TEXT      commands separated by ';', one per frame: run, pause, reset, stage2,\n"
     "                     step N, speed N, mu X, gamma-n X, gamma-t X, youngs-modulus X,\n"
-    "                     wall-velocity X, colour force|speed|none, frames N, wait-steps N,\n"
-    "                     screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, quit\n"
+    "                     wall-velocity X, colour force|speed|stress|none, frames N,\n"
+    "                     wait-steps N,\n"
+    "                     screenshot FILE, load-checkpoint FILE, save-checkpoint FILE,\n"
+    "                     export-figures DIR, quit\n"
     "Mouse in the 3-D view: left drag orbits, right drag pans, the wheel zooms.\n";
 
 struct Options {
@@ -126,7 +130,7 @@ bool parseOptions(int argc, char** argv, Options& o) {
   return true;
 }
 
-enum class Colouring { Force, Speed, None };
+enum class Colouring { Force, Speed, Stress, None };
 
 /// Everything the panels edit, kept between frames.
 struct UiState {
@@ -135,6 +139,10 @@ struct UiState {
   int sceneChoice = 1;
   char checkpoint[256] = "granular-gui.ckpt";
   char exportPath[256] = "granular-gui-view.png";
+  char sceneFile[512] = "";
+  char figureFolder[256] = "granular-gui-figures";
+  std::future<std::string> figureExport;  ///< running on a worker thread: its own GL context
+  std::string figureMessage;
   fs::path screenshotRequest;  ///< written after this frame is drawn
   Material material;           ///< being edited
   double topWallVelocity = 0;
@@ -145,6 +153,20 @@ struct UiState {
 };
 
 const char* kScenes[] = {"paper-mu0.toml", "paper-mu03.toml", "demo.toml"};
+
+/// Draws the figures of a copy of `snap` on a worker thread (figure_export.hpp: the headless
+/// context must not meet the window's on one thread); the message says where they went.
+void startFigureExport(UiState& ui, const Snapshot& snap) {
+  ui.figureMessage = "exporting figures...";
+  ui.figureExport = std::async(std::launch::async, [snap, folder = fs::path(ui.figureFolder)] {
+    try {
+      const std::vector<fs::path> files = exportFigures(snap, folder);
+      return std::to_string(files.size()) + " figures in " + folder.string();
+    } catch (const std::exception& e) {
+      return std::string("figures not exported: ") + e.what();
+    }
+  });
+}
 
 void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float width,
                    float height) {
@@ -165,6 +187,12 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   ImGui::SameLine();
   if (ImGui::Button("Load")) {
     runner.loadScene(fs::path(GRANULAR_SCENES_DIR) / kScenes[ui.sceneChoice]);
+    ui.synced = false;
+  }
+  ImGui::InputTextWithHint("##file", "or a scene file path", ui.sceneFile, sizeof ui.sceneFile);
+  ImGui::SameLine();
+  if (ImGui::Button("Load file") && ui.sceneFile[0]) {
+    runner.loadScene(ui.sceneFile);
     ui.synced = false;
   }
   ImGui::Separator();
@@ -215,7 +243,9 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   ImGui::SameLine();
   ImGui::RadioButton("speed", &colouring, 1);
   ImGui::SameLine();
-  ImGui::RadioButton("none", &colouring, 2);
+  ImGui::RadioButton("sigma33", &colouring, 2);
+  ImGui::SameLine();
+  ImGui::RadioButton("none", &colouring, 3);
   ui.colouring = Colouring(colouring);
   if (ImGui::Button("Reset view")) ui.orbit.reset();
   ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom");
@@ -229,6 +259,15 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   }
   ImGui::InputText("##png", ui.exportPath, sizeof ui.exportPath);
   if (ImGui::Button("Save window as PNG")) ui.screenshotRequest = ui.exportPath;
+  ImGui::InputText("##figures", ui.figureFolder, sizeof ui.figureFolder);
+  ImGui::BeginDisabled(ui.figureExport.valid());
+  if (ImGui::Button("Export figures")) startFigureExport(ui, snap);
+  ImGui::EndDisabled();
+  if (ui.figureExport.valid() &&
+      ui.figureExport.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    ui.figureMessage = ui.figureExport.get();
+  }
+  if (!ui.figureMessage.empty()) ImGui::TextWrapped("%s", ui.figureMessage.c_str());
   ImGui::End();
 }
 
@@ -283,19 +322,25 @@ void statusBar(const Snapshot& snap, double framesPerSecond, float y, float widt
   ImGui::End();
 }
 
-/// Colours per particle for the current colouring, and the colour bar's range.
-std::vector<render::Rgba> colours(const Snapshot& snap, Colouring c, double& top) {
+/// Colours per particle for the current colouring, and the colour bar's range [bottom, top].
+std::vector<render::Rgba> colours(const Snapshot& snap, Colouring c, double& bottom, double& top) {
   std::vector<render::Rgba> out;
-  top = 0;
+  bottom = top = 0;
   if (c == Colouring::None) return out;
-  const std::vector<double>& v = c == Colouring::Force ? snap.forceSum : snap.speed;
-  for (double x : v) top = std::max(top, x);
+  const std::vector<double>& v = c == Colouring::Force   ? snap.forceSum
+                                 : c == Colouring::Speed ? snap.speed
+                                                         : snap.stress33;
+  for (double x : v) {
+    top = std::max(top, x);
+    bottom = std::min(bottom, x);
+  }
   out.reserve(v.size());
-  for (double x : v) out.push_back(render::viridis(top > 0 ? x / top : 0.0));
+  const double range = top - bottom;
+  for (double x : v) out.push_back(render::viridis(range > 0 ? (x - bottom) / range : 0.0));
   return out;
 }
 
-void colourBar(Colouring c, double top, float x, float y) {
+void colourBar(Colouring c, double bottom, double top, float x, float y) {
   if (c == Colouring::None) return;
   ImDrawList* draw = ImGui::GetForegroundDrawList();
   const float width = 18, height = 200;
@@ -306,11 +351,15 @@ void colourBar(Colouring c, double top, float x, float y) {
   }
   draw->AddRect(ImVec2(x, y), ImVec2(x + width, y + height), IM_COL32(40, 40, 40, 255));
   char label[64];
-  std::snprintf(label, sizeof label, "%.3g %s", top, c == Colouring::Force ? "N" : "m/s");
+  const char* unit = c == Colouring::Force ? "N" : c == Colouring::Speed ? "m/s" : "Pa";
+  std::snprintf(label, sizeof label, "%.3g %s", top, unit);
   draw->AddText(ImVec2(x + width + 4, y - 6), IM_COL32(20, 20, 20, 255), label);
-  draw->AddText(ImVec2(x + width + 4, y + height - 8), IM_COL32(20, 20, 20, 255), "0");
+  std::snprintf(label, sizeof label, "%.3g %s", bottom, unit);
+  draw->AddText(ImVec2(x + width + 4, y + height - 8), IM_COL32(20, 20, 20, 255), label);
   draw->AddText(ImVec2(x, y + height + 6), IM_COL32(20, 20, 20, 255),
-                c == Colouring::Force ? "sum |F_ij|" : "speed");
+                c == Colouring::Force   ? "sum |F_ij|"
+                : c == Colouring::Speed ? "speed"
+                                        : "sigma33 (own volume)");
 }
 
 void writeScreenshot(const WindowGl& gl, int width, int height, const fs::path& file) {
@@ -347,38 +396,47 @@ class ScriptPlayer {
     }
     if (next_ >= commands_.size()) return true;
     const ScriptCommand& c = commands_[next_++];
-    const double x =
-        c.argument.empty() || !std::isdigit(c.argument.back()) ? 0.0 : std::stod(c.argument);
+    double x = 0;  // numeric arguments (parseScript checked them); others leave it 0
+    try {
+      x = std::stod(c.argument);
+    } catch (const std::exception&) {
+    }
     Material m = snap.material;
-    if (c.verb == "run")
+    const std::string& v = c.verb;
+    if (v == "run") {
       runner.run();
-    else if (c.verb == "pause")
+    } else if (v == "pause") {
       runner.pause();
-    else if (c.verb == "reset")
+    } else if (v == "reset") {
       runner.reset();
-    else if (c.verb == "stage2")
+    } else if (v == "stage2") {
       runner.startStage2();
-    else if (c.verb == "step")
+    } else if (v == "step") {
       runner.step(int(x));
-    else if (c.verb == "speed")
+    } else if (v == "speed") {
       runner.setStepsPerUpdate(int(x));
-    else if (c.verb == "wall-velocity")
+    } else if (v == "wall-velocity") {
       runner.setTopWallVelocity(x);
-    else if (c.verb == "frames")
+    } else if (v == "frames") {
       waitFrames_ = long(x);
-    else if (c.verb == "screenshot")
+    } else if (v == "screenshot") {
       ui.screenshotRequest = c.argument;
-    else if (c.verb == "load-checkpoint")
+    } else if (v == "load-checkpoint") {
       runner.loadCheckpoint(c.argument);
-    else if (c.verb == "save-checkpoint")
+    } else if (v == "save-checkpoint") {
       runner.saveCheckpoint(c.argument);
-    else if (c.verb == "quit")
+    } else if (v == "export-figures") {
+      std::snprintf(ui.figureFolder, sizeof ui.figureFolder, "%s", c.argument.c_str());
+      startFigureExport(ui, snap);
+      ui.figureExport.wait();  // a script goes on once they are written
+    } else if (v == "quit") {
       return false;
-    else if (c.verb == "colour") {
-      ui.colouring = c.argument == "force"   ? Colouring::Force
-                     : c.argument == "speed" ? Colouring::Speed
-                                             : Colouring::None;
-    } else if (c.verb == "wait-steps") {
+    } else if (v == "colour") {
+      ui.colouring = c.argument == "force"    ? Colouring::Force
+                     : c.argument == "speed"  ? Colouring::Speed
+                     : c.argument == "stress" ? Colouring::Stress
+                                              : Colouring::None;
+    } else if (v == "wait-steps") {
       waitSteps_ = runner.steps() + std::uint64_t(x);
       deadline_ = std::chrono::steady_clock::now() + std::chrono::seconds(600);
     } else {  // material fields
@@ -444,7 +502,7 @@ int runWindow(const Options& options) {
     runner.latest(snap);
     std::uint64_t uploaded = 0;
     Colouring uploadedColouring = ui.colouring;
-    double barTop = 0;
+    double barBottom = 0, barTop = 0;
     long frame = 0;
     auto fpsStart = std::chrono::steady_clock::now();
     long fpsFrames = 0;
@@ -485,7 +543,7 @@ int runWindow(const Options& options) {
         if (io.MouseWheel != 0) ui.orbit.zoomBy(io.MouseWheel);
       }
       if (snap.version != uploaded || ui.colouring != uploadedColouring) {
-        const std::vector<render::Rgba> c = colours(snap, ui.colouring, barTop);
+        const std::vector<render::Rgba> c = colours(snap, ui.colouring, barBottom, barTop);
         render::ParticleScene scene;
         scene.centres = snap.centres;
         scene.radii = snap.radii;
@@ -497,7 +555,7 @@ int runWindow(const Options& options) {
         uploaded = snap.version;
         uploadedColouring = ui.colouring;
       }
-      colourBar(ui.colouring, barTop, viewX + viewW - 110, 30);
+      colourBar(ui.colouring, barBottom, barTop, viewX + viewW - 110, 30);
       ImGui::Render();
 
       // The 3-D view first, in its region; the panels over it.

@@ -12,7 +12,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
                                                 "gamma-n",       "gamma-t", "youngs-modulus",
                                                 "wall-velocity", "frames",  "wait-steps"};
   static const std::set<std::string> word = {"colour", "screenshot", "load-checkpoint",
-                                             "save-checkpoint"};
+                                             "save-checkpoint", "export-figures"};
   std::vector<ScriptCommand> commands;
   std::stringstream all(text);
   std::string item;
@@ -43,16 +43,17 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
     } else if (word.count(c.verb)) {
       if (c.argument.empty()) throw std::invalid_argument("script: '" + c.verb + "' needs a value");
       if (c.verb == "colour" && c.argument != "force" && c.argument != "speed" &&
-          c.argument != "none") {
+          c.argument != "stress" && c.argument != "none") {
         throw std::invalid_argument("script: colour '" + c.argument +
-                                    "': expected force, speed or none");
+                                    "': expected force, speed, stress or none");
       }
     } else {
       throw std::invalid_argument(
           "script: unknown command '" + c.verb +
           "' (run, pause, reset, stage2, step N, speed N, mu X, gamma-n X, gamma-t X, "
-          "youngs-modulus X, wall-velocity X, colour force|speed|none, frames N, wait-steps N, "
-          "screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, quit)");
+          "youngs-modulus X, wall-velocity X, colour force|speed|stress|none, frames N, "
+          "wait-steps N, screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, "
+          "export-figures DIR, quit)");
     }
     commands.push_back(c);
   }

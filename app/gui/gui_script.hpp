@@ -3,9 +3,9 @@
 ///
 /// A script is commands separated by ';', carried out one per frame in order:
 ///   run | pause | reset | stage2 | step N | speed N (steps per update) | mu X | gamma-n X |
-///   gamma-t X | youngs-modulus X | wall-velocity X (m/s) | colour force|speed|none |
+///   gamma-t X | youngs-modulus X | wall-velocity X (m/s) | colour force|speed|stress|none |
 ///   frames N (wait N frames) | wait-steps N (wait until N more steps are done) |
-///   screenshot FILE | load-checkpoint FILE | save-checkpoint FILE | quit
+///   screenshot FILE | load-checkpoint FILE | save-checkpoint FILE | export-figures DIR | quit
 #include <string>
 #include <vector>
 
