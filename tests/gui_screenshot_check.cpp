@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "granular/render/image.hpp"
 
@@ -47,12 +48,21 @@ Count count(const Image& image, int x0, int y0, int x1, int y1) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: granular_gui_screenshot_check SCREENSHOT.png\n");
+  const bool viewOnly = argc == 3 && std::string(argv[1]) == "--view";
+  if (argc != 2 && !viewOnly) {
+    std::fprintf(stderr, "usage: granular_gui_screenshot_check [--view] SCREENSHOT.png\n");
     return 2;
   }
   try {
-    const Image image = granular::render::readPng(argv[1]);
+    const Image image = granular::render::readPng(argv[argc - 1]);
+    if (viewOnly) {  // the 3-D view alone (save-view): white background, coloured particles
+      const Count view = count(image, 0, 0, image.width, image.height);
+      std::printf("saved view %d x %d: %ld coloured px, %ld white\n", image.width, image.height,
+                  view.colouredPixels, view.white);
+      const bool ok = view.white > view.total / 3 && view.colouredPixels > 4000;
+      if (!ok) std::fprintf(stderr, "FAILED: the saved 3-D view shows no particles\n");
+      return ok ? 0 : 1;
+    }
     const int w = image.width, h = image.height;
     if (w < 800 || h < 600) {
       std::fprintf(stderr, "screenshot %d x %d: smaller than the window's 800 x 600\n", w, h);

@@ -9,9 +9,10 @@ if ! command -v xvfb-run > /dev/null; then
   exit 77
 fi
 mkdir -p "$out"
-rm -f "$out/gui.png"
+rm -f "$out/gui.png" "$out/view.png"
 log="$out/gui.log"
 script="speed 20; run; wait-steps 300; pause; mu 0.5; step 20; frames 10; colour force; frames 5"
+script+="; save-view $out/view.png; frames 2"
 if ! xvfb-run -a -s "-screen 0 1280x800x24" "$gui" --frames 100000 --screenshot "$out/gui.png" \
   --script "$script; quit" > "$log" 2>&1; then
   cat "$log"
@@ -28,3 +29,4 @@ summary=$(grep '^granular-gui:' "$log" | tail -1)
 steps=$(sed -n 's/.* \([0-9]*\) steps,.*/\1/p' <<< "$summary")
 (( steps >= 320 )) || { echo "FAILED: $steps steps, expected at least 300 + 20"; exit 1; }
 "$check" "$out/gui.png"
+"$check" --view "$out/view.png"

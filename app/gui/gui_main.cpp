@@ -42,7 +42,7 @@ constexpr const char* kUsage =
     "                     wall-velocity X, colour force|speed|stress|none, frames N,\n"
     "                     wait-steps N,\n"
     "                     screenshot FILE, load-checkpoint FILE, save-checkpoint FILE,\n"
-    "                     export-figures DIR, quit\n"
+    "                     save-view FILE, export-figures DIR, quit\n"
     "Mouse in the 3-D view: left drag orbits, right drag pans, the wheel zooms.\n";
 
 struct Options {
@@ -144,6 +144,7 @@ struct UiState {
   std::future<std::string> figureExport;  ///< running on a worker thread: its own GL context
   std::string figureMessage;
   fs::path screenshotRequest;  ///< written after this frame is drawn
+  fs::path viewRequest;        ///< the 3-D view alone, drawn anew at 2× the screen's size
   Material material;           ///< being edited
   double topWallVelocity = 0;
   int integrator = 0;  ///< 0 Gear5, 1 Verlet
@@ -258,7 +259,9 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
     ui.synced = false;
   }
   ImGui::InputText("##png", ui.exportPath, sizeof ui.exportPath);
-  if (ImGui::Button("Save window as PNG")) ui.screenshotRequest = ui.exportPath;
+  if (ImGui::Button("Save window")) ui.screenshotRequest = ui.exportPath;
+  ImGui::SameLine();
+  if (ImGui::Button("Save 3-D view")) ui.viewRequest = ui.exportPath;
   ImGui::InputText("##figures", ui.figureFolder, sizeof ui.figureFolder);
   ImGui::BeginDisabled(ui.figureExport.valid());
   if (ImGui::Button("Export figures")) startFigureExport(ui, snap);
@@ -421,6 +424,8 @@ class ScriptPlayer {
       waitFrames_ = long(x);
     } else if (v == "screenshot") {
       ui.screenshotRequest = c.argument;
+    } else if (v == "save-view") {
+      ui.viewRequest = c.argument;
     } else if (v == "load-checkpoint") {
       runner.loadCheckpoint(c.argument);
     } else if (v == "save-checkpoint") {
@@ -542,15 +547,23 @@ int runWindow(const Options& options) {
         }
         if (io.MouseWheel != 0) ui.orbit.zoomBy(io.MouseWheel);
       }
-      if (snap.version != uploaded || ui.colouring != uploadedColouring) {
+      const Vec3 boxTop =
+          snap.topWallZ ? Vec3(snap.boxMax.x(), snap.boxMax.y(), *snap.topWallZ) : snap.boxMax;
+      if (snap.version != uploaded || ui.colouring != uploadedColouring ||
+          !ui.viewRequest.empty()) {
         const std::vector<render::Rgba> c = colours(snap, ui.colouring, barBottom, barTop);
         render::ParticleScene scene;
         scene.centres = snap.centres;
         scene.radii = snap.radii;
         scene.colours = c;
-        Vec3 top = snap.boxMax;
-        if (snap.topWallZ) top.z() = *snap.topWallZ;
-        scene.lines = render::boxEdges(snap.boxMin, top, !snap.topWallZ);
+        scene.lines = render::boxEdges(snap.boxMin, boxTop, !snap.topWallZ);
+        if (!ui.viewRequest.empty()) {  // offscreen, supersampled, as the figures are drawn
+          const int w = std::max(2, int(2 * viewW)), h = std::max(2, int(2 * viewH));
+          render::writePng(
+              renderer.render(scene, ui.orbit.camera(snap.boxMin, boxTop, double(w) / h), w, h),
+              ui.viewRequest);
+          ui.viewRequest.clear();
+        }
         renderer.upload(scene);
         uploaded = snap.version;
         uploadedColouring = ui.colouring;
@@ -569,8 +582,6 @@ int runWindow(const Options& options) {
       gl.enable(kScissorTest);
       gl.clearColor(1.0f, 1.0f, 1.0f, 1.0f);
       gl.clear(kColorBufferBit | kDepthBufferBit);
-      const Vec3 boxTop =
-          snap.topWallZ ? Vec3(snap.boxMax.x(), snap.boxMax.y(), *snap.topWallZ) : snap.boxMax;
       renderer.draw(ui.orbit.camera(snap.boxMin, boxTop, double(vw) / vh), vw, vh, scale);
       gl.disable(kScissorTest);
       gl.viewport(0, 0, fbWidth, fbHeight);

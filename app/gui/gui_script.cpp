@@ -11,8 +11,8 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
   static const std::set<std::string> numeric = {"step",          "speed",   "mu",
                                                 "gamma-n",       "gamma-t", "youngs-modulus",
                                                 "wall-velocity", "frames",  "wait-steps"};
-  static const std::set<std::string> word = {"colour", "screenshot", "load-checkpoint",
-                                             "save-checkpoint", "export-figures"};
+  static const std::set<std::string> word = {"colour",          "screenshot",     "load-checkpoint",
+                                             "save-checkpoint", "export-figures", "save-view"};
   std::vector<ScriptCommand> commands;
   std::stringstream all(text);
   std::string item;
@@ -53,7 +53,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
           "' (run, pause, reset, stage2, step N, speed N, mu X, gamma-n X, gamma-t X, "
           "youngs-modulus X, wall-velocity X, colour force|speed|stress|none, frames N, "
           "wait-steps N, screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, "
-          "export-figures DIR, quit)");
+          "save-view FILE, export-figures DIR, quit)");
     }
     commands.push_back(c);
   }

@@ -5,7 +5,8 @@
 ///   run | pause | reset | stage2 | step N | speed N (steps per update) | mu X | gamma-n X |
 ///   gamma-t X | youngs-modulus X | wall-velocity X (m/s) | colour force|speed|stress|none |
 ///   frames N (wait N frames) | wait-steps N (wait until N more steps are done) |
-///   screenshot FILE | load-checkpoint FILE | save-checkpoint FILE | export-figures DIR | quit
+///   screenshot FILE (the window) | save-view FILE (the 3-D view, 2× its size) |
+///   load-checkpoint FILE | save-checkpoint FILE | export-figures DIR | quit
 #include <string>
 #include <vector>
 
