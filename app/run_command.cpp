@@ -2,9 +2,11 @@
 /// Sections: 1. output names; 2. running the stages; 3. summary.
 #include "run_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -20,6 +22,7 @@
 #include "progress.hpp"
 #include "run_header.hpp"
 #include "run_progress.hpp"
+#include "vtk_snapshot.hpp"
 
 namespace granular::app {
 
@@ -29,15 +32,56 @@ namespace {
 
 /// snapshot_<stage>_<time>.csv: the stage is part of the name because snapshot times are on
 /// each stage's own clock, so two stages can pass the same time.
-std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const std::string& stage,
-                                   double time) {
+std::string safeName(const std::string& stage) {
   std::string safe;
   for (char c : stage) {
     const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                        c == '-' || c == '_';
     safe += plain ? c : '_';
   }
-  return outDir / ("snapshot_" + safe + "_" + csvNumber(time) + ".csv");
+  return safe;
+}
+
+std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const std::string& stage,
+                                   double time) {
+  return outDir / ("snapshot_" + safeName(stage) + "_" + csvNumber(time) + ".csv");
+}
+
+/// paraview/<stage>_<time>_<kind>.vtp, relative to the run folder (the .pvd files refer to it so).
+std::filesystem::path paraviewPath(const std::string& stage, double time, const char* kind) {
+  return std::filesystem::path("paraview") /
+         (safeName(stage) + "_" + csvNumber(time) + "_" + kind + ".vtp");
+}
+
+constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
+
+/// Writes the ParaView files of a snapshot of stage `k` at stage time `time`, then rewrites
+/// particles.pvd, contacts.pvd and walls.pvd from every snapshot file present (so a resumed
+/// run lists the ones written before it stopped). A collection's time runs on across stages:
+/// a stage's snapshots are offset by the durations of the stages before it.
+void writeParaviewSnapshot(const std::filesystem::path& outDir, const Scene& scene,
+                           const RunProgress& progress, std::size_t k, double time,
+                           const Simulation& sim) {
+  std::filesystem::create_directories(outDir / "paraview");
+  const std::string& stage = scene.stages[k].name;
+  writeParticlesVtp(outDir / paraviewPath(stage, time, "particles"), sim);
+  writeContactsVtp(outDir / paraviewPath(stage, time, "contacts"), sim);
+  writeWallsVtp(outDir / paraviewPath(stage, time, "walls"), sim, scene.box.min, scene.box.max);
+  std::vector<double> times = scene.output.snapshotTimes;
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  for (const char* kind : kParaviewKinds) {
+    std::vector<PvdEntry> entries;
+    double offset = 0;
+    for (std::size_t j = 0; j <= k; ++j) {
+      for (double t : times) {
+        const std::filesystem::path file = paraviewPath(scene.stages[j].name, t, kind);
+        if (std::filesystem::exists(outDir / file)) entries.push_back({offset + t, file});
+      }
+      if (j < progress.finished.size()) offset += progress.finished[j].result.duration;
+    }
+    writePvd(outDir / (std::string(kind) + ".pvd"), entries);
+  }
 }
 
 const char* reasonText(StageEndReason reason) {
@@ -150,6 +194,7 @@ int runScene(const RunOptions& options) {
       observer.onSample = [&](const Simulation& s) { series->write(stage.name, s); };
       observer.onSnapshot = [&](const Simulation& s, double time) {
         writeParticleState(snapshotPath(outDir, stage.name, time), s.particles());
+        writeParaviewSnapshot(outDir, scene, progress, k, time, s);
       };
       observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
         reporter.update(s, st);
@@ -223,8 +268,11 @@ int runScene(const RunOptions& options) {
           << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"
           << (start.resumed ? " (since the resume)" : "") << "\n";
   writeTextFile(outDir / "summary.txt", summary.str());
-  std::cout << "wrote " << (outDir / "timeseries.csv").string()
-            << ", final_state.csv, summary.txt\n";
+  std::cout << "wrote " << (outDir / "timeseries.csv").string() << ", final_state.csv, summary.txt"
+            << (std::filesystem::exists(outDir / "particles.pvd")
+                    ? "; snapshots for ParaView: particles.pvd, contacts.pvd, walls.pvd"
+                    : "")
+            << "\n";
   return 0;
 }
 

@@ -55,6 +55,27 @@ TEST(Stress, LoveWeberIdentityHoldsToRoundOffOnALiveState) {
   }
 }
 
+TEST(Stress, ParticleStressesTimesTheirVolumesSumToTheBoxStress) {
+  // Σ_i V_i σ^i = V σ(Eq. 1): the same contact sums, split by particle. A wrong branch vector,
+  // volume or transposition breaks it (the tensor is not symmetric on a moving bed).
+  Simulation sim = compactedBed(0.4, 0.05, Integrator::Gear5, 0.3);
+  const double volume = 0.4 * 0.4 * 1.0;
+  const Mat3 box = volume * volumeAveragedStress(sim, volume);
+  const std::vector<Mat3> each = particleStresses(sim);
+  ASSERT_EQ(each.size(), sim.particles().size());
+  Mat3 sum = Mat3::Zero();
+  for (std::size_t i = 0; i < each.size(); ++i) {
+    const double r = sim.particles().radius[i];
+    sum += each[i] * (4.0 / 3.0 * M_PI * r * r * r);
+  }
+  ASSERT_GT(box.cwiseAbs().maxCoeff(), 1.0);
+  EXPECT_LT((sum - box).cwiseAbs().maxCoeff(), 1e-12 * box.cwiseAbs().maxCoeff());
+  // A particle without contacts carries no stress; one pressed from above and below compresses.
+  double mostCompressed = 0;
+  for (const Mat3& s : each) mostCompressed = std::min(mostCompressed, s(2, 2));
+  EXPECT_LT(mostCompressed, 0.0);
+}
+
 TEST(Stress, NetContactForceBalancesGravityAndInertia) {
   // The net contact force from the measurement evaluation is m (a - g) up to the difference
   // between the evaluation state and the integrator's; in a slowly compacted bed that is small.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <tuple>
 #include <utility>
 
@@ -18,6 +19,19 @@ Mat3 volumeAveragedStress(const Simulation& sim, double volume) {
     sum += c.force * branch.transpose();
   });
   return sum / volume;
+}
+
+std::vector<Mat3> particleStresses(const Simulation& sim) {
+  const Particles& p = sim.particles();
+  std::vector<Mat3> stress(p.size(), Mat3::Zero());
+  sim.forEachContact([&](const ContactView& c) {
+    stress[c.particle] += c.force * (c.point - p.position[c.particle]).transpose();
+  });
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double r = p.radius[i];
+    stress[i] /= 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  }
+  return stress;
 }
 
 namespace {

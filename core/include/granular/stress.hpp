@@ -13,6 +13,12 @@ namespace granular {
 /// l^c = C - x_i the branch vector from its centre to the contact point [Pa].
 Mat3 volumeAveragedStress(const Simulation& sim, double volume);
 
+/// Eq. (1) per particle over its own volume: σ^i = (1/V_i) Σ_c F^c (l^c)ᵀ over the contacts of
+/// particle i, V_i = 4/3 π R_i³ (rows = force component, as volumeAveragedStress) [Pa]. So
+/// Σ_i V_i σ^i = V σ of Eq. (1). A local measure (the particle's volume, not a cell around it):
+/// for a continuum field use stress_field.hpp.
+std::vector<Mat3> particleStresses(const Simulation& sim);
+
 /// Σ_j |F_ij| per particle over all its contacts, particles and walls (the paper's Figs. 3 and 6
 /// colour the particles by it) [N].
 std::vector<double> particleForceSums(const Simulation& sim);

@@ -1,0 +1,185 @@
+/// vtk_snapshot.hpp.
+#include "vtk_snapshot.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "csv_output.hpp"
+#include "granular/stress.hpp"
+
+namespace granular::app {
+
+namespace {
+
+vtkNew<vtkDoubleArray> array(const char* name, int components, vtkIdType tuples) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+void setVec(vtkDoubleArray* a, vtkIdType i, const Vec3& v) {
+  a->SetTuple3(i, v.x(), v.y(), v.z());
+}
+
+void write(const std::filesystem::path& file, vtkPolyData* poly) {
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetFileName(file.c_str());
+  writer->SetInputData(poly);
+  if (writer->Write() != 1) throw IoError(file.string() + ": VTK could not write it");
+}
+
+}  // namespace
+
+void writeParticlesVtp(const std::filesystem::path& file, const Simulation& sim) {
+  const Particles& p = sim.particles();
+  const vtkIdType n = vtkIdType(p.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkCellArray> vertices;
+  auto radius = array("radius_m", 1, n);
+  auto velocity = array("velocity_m_s", 3, n);
+  auto spin = array("angular_velocity_rad_s", 3, n);
+  auto forceSum = array("force_sum_N", 1, n);
+  auto stress = array("stress_Pa", 9, n);
+  const std::vector<double> sums = particleForceSums(sim);
+  const std::vector<Mat3> stresses = particleStresses(sim);
+  for (vtkIdType i = 0; i < n; ++i) {
+    points->SetPoint(i, p.position[i].x(), p.position[i].y(), p.position[i].z());
+    vertices->InsertNextCell(1, &i);
+    radius->SetValue(i, p.radius[i]);
+    setVec(velocity, i, p.velocity[i]);
+    setVec(spin, i, p.angularVelocity[i]);
+    forceSum->SetValue(i, sums[i]);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) stress->SetComponent(i, 3 * r + c, stresses[i](r, c));
+    }
+  }
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetVerts(vertices);
+  for (vtkDoubleArray* a :
+       {radius.Get(), velocity.Get(), spin.Get(), forceSum.Get(), stress.Get()}) {
+    poly->GetPointData()->AddArray(a);
+  }
+  write(file, poly);
+}
+
+void writeContactsVtp(const std::filesystem::path& file, const Simulation& sim) {
+  const Particles& p = sim.particles();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkDoubleArray> normal, tangential, magnitude;
+  normal->SetName("normal_force_N");
+  normal->SetNumberOfComponents(3);
+  tangential->SetName("tangential_force_N");
+  tangential->SetNumberOfComponents(3);
+  magnitude->SetName("normal_force_magnitude_N");
+  vtkNew<vtkIntArray> wallIndex;
+  wallIndex->SetName("wall");
+  sim.forEachContact([&](const ContactView& c) {
+    if (c.other >= 0 && std::size_t(c.other) < c.particle) return;  // a pair once
+    const Vec3& xi = p.position[c.particle];
+    const Vec3 end = c.other >= 0 ? p.position[std::size_t(c.other)] : c.point;
+    // n from the particle towards the other body (for a wall: against the wall's normal).
+    Vec3 n = c.other >= 0 ? Vec3(end - xi) : Vec3(-sim.walls()[std::size_t(-c.other - 1)].normal);
+    n = n.norm() > 0 ? n.normalized() : Vec3::UnitZ();
+    const Vec3 fn = c.force.dot(n) * n;
+    const vtkIdType ids[2] = {points->InsertNextPoint(xi.x(), xi.y(), xi.z()),
+                              points->InsertNextPoint(end.x(), end.y(), end.z())};
+    lines->InsertNextCell(2, ids);
+    normal->InsertNextTuple3(fn.x(), fn.y(), fn.z());
+    const Vec3 ft = c.force - fn;
+    tangential->InsertNextTuple3(ft.x(), ft.y(), ft.z());
+    magnitude->InsertNextValue(fn.norm());
+    wallIndex->InsertNextValue(c.other >= 0 ? -1 : int(-c.other - 1));
+  });
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  poly->GetCellData()->AddArray(normal);
+  poly->GetCellData()->AddArray(tangential);
+  poly->GetCellData()->AddArray(magnitude);
+  poly->GetCellData()->AddArray(wallIndex);
+  write(file, poly);
+}
+
+void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, const Vec3& boxMin,
+                   const Vec3& boxMax) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkCellArray> quads;
+  vtkNew<vtkDoubleArray> reaction, velocity;
+  reaction->SetName("reaction_N");
+  reaction->SetNumberOfComponents(3);
+  velocity->SetName("velocity_m_s");
+  velocity->SetNumberOfComponents(3);
+  vtkNew<vtkIntArray> index;
+  index->SetName("wall");
+  for (std::size_t w = 0; w < sim.walls().size(); ++w) {
+    const Wall& wall = sim.walls()[w];
+    // The plane's largest normal component names the axis it is across; the quad spans the
+    // box along the other two, through the wall's point.
+    int axis = 0;
+    wall.normal.cwiseAbs().maxCoeff(&axis);
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    vtkIdType ids[4];
+    const double cornersA[4] = {boxMin[a], boxMax[a], boxMax[a], boxMin[a]};
+    const double cornersB[4] = {boxMin[b], boxMin[b], boxMax[b], boxMax[b]};
+    for (int k = 0; k < 4; ++k) {
+      Vec3 x = wall.point;
+      x[a] = cornersA[k];
+      x[b] = cornersB[k];
+      // On the plane: solve n·(x - point) = 0 for the axis coordinate.
+      x[axis] = wall.point[axis] - (wall.normal[a] * (x[a] - wall.point[a]) +
+                                    wall.normal[b] * (x[b] - wall.point[b])) /
+                                       wall.normal[axis];
+      ids[k] = points->InsertNextPoint(x.x(), x.y(), x.z());
+    }
+    quads->InsertNextCell(4, ids);
+    reaction->InsertNextTuple3(wall.reaction.x(), wall.reaction.y(), wall.reaction.z());
+    velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
+    index->InsertNextValue(int(w));
+  }
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetPolys(quads);
+  poly->GetCellData()->AddArray(reaction);
+  poly->GetCellData()->AddArray(velocity);
+  poly->GetCellData()->AddArray(index);
+  write(file, poly);
+}
+
+void writePvd(const std::filesystem::path& file, const std::vector<PvdEntry>& entries) {
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << "<?xml version=\"1.0\"?>\n"
+           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+           "  <Collection>\n";
+    out.precision(17);
+    for (const PvdEntry& e : entries) {
+      out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"0\" file=\""
+          << e.file.generic_string() << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
+    if (!out) throw IoError(temporary.string() + ": cannot write");
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+}  // namespace granular::app

@@ -1,0 +1,32 @@
+#pragma once
+/// ParaView snapshots of a run through VTK's XML writers: the particles, the contact network
+/// and the walls as poly data (.vtp), and .pvd collections that list them over time.
+///
+/// Array names carry their units. Particles (points): radius_m, velocity_m_s,
+/// angular_velocity_rad_s, force_sum_N (Σ_j |F_ij|), stress_Pa (9 components, row-major:
+/// Eq. (1) over the particle's own volume, granular::particleStresses). Contacts (one line
+/// cell each: centre to centre for a particle pair, counted once; centre to the contact point
+/// for a wall): normal_force_N, tangential_force_N (vectors, on the first particle),
+/// normal_force_magnitude_N, wall (-1 for a pair, else the wall's index). Walls (one quad
+/// each, spanning the box): reaction_N (the particles' push on the wall), velocity_m_s, wall.
+#include <filesystem>
+#include <vector>
+
+#include "granular/simulation.hpp"
+
+namespace granular::app {
+
+void writeParticlesVtp(const std::filesystem::path& file, const Simulation& sim);
+void writeContactsVtp(const std::filesystem::path& file, const Simulation& sim);
+/// `boxMin`, `boxMax`: the extent each wall's quad spans along its plane [m].
+void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, const Vec3& boxMin,
+                   const Vec3& boxMax);
+
+struct PvdEntry {
+  double time = 0;             ///< [s]
+  std::filesystem::path file;  ///< relative to the .pvd's folder
+};
+/// Writes a .pvd collection (atomically: a reader never sees half of it).
+void writePvd(const std::filesystem::path& file, const std::vector<PvdEntry>& entries);
+
+}  // namespace granular::app

@@ -1,0 +1,154 @@
+/// ParaView snapshots (issue 9): the .vtp files read back with VTK's own reader carry what the
+/// engine has: positions, radii, Σ|F|, per-particle stresses, every contact once with its force
+/// split into normal and tangential parts, and the walls with their reactions.
+#include <gtest/gtest.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "granular/stress.hpp"
+#include "physics_fixtures.hpp"
+#include "vtk_snapshot.hpp"
+
+using namespace granular;
+namespace fs = std::filesystem;
+
+namespace {
+
+vtkSmartPointer<vtkPolyData> readVtp(const fs::path& file) {
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+Vec3 tuple3(vtkDataArray* a, vtkIdType i) {
+  double v[3];
+  a->GetTuple(i, v);
+  return {v[0], v[1], v[2]};
+}
+
+/// A frictional bed landed on the floor, still moving: forces of every kind. Velocity Verlet
+/// without dashpots, so the forces of the last step (at the drifted positions, where the wall
+/// reactions were summed) are the forces of the state the files describe.
+Simulation landedBed() {
+  SimulationConfig cfg;
+  cfg.material.friction = 0.3;
+  cfg.material.normalDamping = 0;
+  cfg.material.tangentialDamping = 0;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.timeStep = 1.5e-4;
+  Simulation sim = granular::testing::fallingGrid(4, 4, 3, cfg, 0.3, 5);
+  sim.run(2500);
+  return sim;
+}
+
+}  // namespace
+
+TEST(VtkSnapshot, ParticlesReadBackWithTheirStateForcesAndStresses) {
+  const Simulation sim = landedBed();
+  const fs::path dir = fs::temp_directory_path() / "granular_vtk_snapshot";
+  fs::create_directories(dir);
+  app::writeParticlesVtp(dir / "particles.vtp", sim);
+  const auto poly = readVtp(dir / "particles.vtp");
+  const Particles& p = sim.particles();
+  ASSERT_EQ(poly->GetNumberOfPoints(), vtkIdType(p.size()));
+  vtkPointData* data = poly->GetPointData();
+  vtkDataArray* radius = data->GetArray("radius_m");
+  vtkDataArray* velocity = data->GetArray("velocity_m_s");
+  vtkDataArray* sum = data->GetArray("force_sum_N");
+  vtkDataArray* stress = data->GetArray("stress_Pa");
+  ASSERT_TRUE(radius && velocity && sum && stress && data->GetArray("angular_velocity_rad_s"));
+  ASSERT_EQ(stress->GetNumberOfComponents(), 9);
+  const std::vector<double> sums = particleForceSums(sim);
+  const std::vector<Mat3> stresses = particleStresses(sim);
+  double loaded = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    double x[3];
+    poly->GetPoint(vtkIdType(i), x);
+    EXPECT_EQ(Vec3(x[0], x[1], x[2]), p.position[i]);
+    EXPECT_EQ(radius->GetTuple1(vtkIdType(i)), p.radius[i]);
+    EXPECT_EQ(tuple3(velocity, vtkIdType(i)), p.velocity[i]);
+    EXPECT_EQ(sum->GetTuple1(vtkIdType(i)), sums[i]);
+    EXPECT_EQ(stress->GetComponent(vtkIdType(i), 8), stresses[i](2, 2));
+    EXPECT_EQ(stress->GetComponent(vtkIdType(i), 1), stresses[i](0, 1));  // row-major
+    loaded += sums[i] > 0;
+  }
+  EXPECT_GT(loaded, 0.3 * double(p.size()));  // the bed has landed
+  fs::remove_all(dir);
+}
+
+TEST(VtkSnapshot, ContactsAndWallsReadBackAndBalanceTheWallReactions) {
+  const Simulation sim = landedBed();
+  const fs::path dir = fs::temp_directory_path() / "granular_vtk_contacts";
+  fs::create_directories(dir);
+  app::writeContactsVtp(dir / "contacts.vtp", sim);
+  app::writeWallsVtp(dir / "walls.vtp", sim, Vec3::Zero(), Vec3(0.4, 0.4, 1.0));
+  const auto contacts = readVtp(dir / "contacts.vtp");
+  const auto walls = readVtp(dir / "walls.vtp");
+
+  // Every contact once: pairs seen from one side, walls once.
+  std::size_t expected = 0;
+  sim.forEachContact(
+      [&](const ContactView& c) { expected += c.other < 0 || std::size_t(c.other) > c.particle; });
+  ASSERT_GT(expected, 10u);
+  ASSERT_EQ(contacts->GetNumberOfLines(), vtkIdType(expected));
+  vtkCellData* cells = contacts->GetCellData();
+  vtkDataArray* normal = cells->GetArray("normal_force_N");
+  vtkDataArray* tangential = cells->GetArray("tangential_force_N");
+  vtkDataArray* wall = cells->GetArray("wall");
+  ASSERT_TRUE(normal && tangential && wall && cells->GetArray("normal_force_magnitude_N"));
+  // The wall contacts' forces on the particles, summed per wall from the file, are minus the
+  // reactions the force pass accumulated: two independent paths to the same number.
+  std::vector<Vec3> push(sim.walls().size(), Vec3::Zero());
+  double tangentialSeen = 0;
+  for (vtkIdType k = 0; k < contacts->GetNumberOfLines(); ++k) {
+    const Vec3 fn = tuple3(normal, k), ft = tuple3(tangential, k);
+    EXPECT_LT(std::abs(fn.dot(ft)), 1e-9 * (fn.squaredNorm() + ft.squaredNorm()) + 1e-300);
+    tangentialSeen = std::max(tangentialSeen, ft.norm());
+    const int w = int(wall->GetTuple1(k));
+    if (w >= 0) push[std::size_t(w)] += fn + ft;
+  }
+  EXPECT_GT(tangentialSeen, 0.0);  // friction: tangential forces exist
+  ASSERT_EQ(walls->GetNumberOfPolys(), vtkIdType(sim.walls().size()));
+  ASSERT_GT(sim.walls()[std::size_t(sim.findWall("bottom"))].reaction.norm(), 1.0);
+  vtkDataArray* reaction = walls->GetCellData()->GetArray("reaction_N");
+  ASSERT_TRUE(reaction);
+  for (std::size_t w = 0; w < sim.walls().size(); ++w) {
+    const Vec3 r = sim.walls()[w].reaction;
+    EXPECT_EQ(tuple3(reaction, vtkIdType(w)), r);
+    EXPECT_LT((push[w] + r).norm(), 1e-9 * (r.norm() + 1.0)) << sim.walls()[w].name;
+  }
+  // Each wall's quad lies in its plane.
+  for (vtkIdType k = 0; k < walls->GetNumberOfPoints(); ++k) {
+    double x[3];
+    walls->GetPoint(k, x);
+    const Wall& w = sim.walls()[std::size_t(k / 4)];
+    EXPECT_NEAR((Vec3(x[0], x[1], x[2]) - w.point).dot(w.normal), 0.0, 1e-12);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(VtkSnapshot, CollectionListsItsFilesInTimeOrder) {
+  const fs::path file = fs::temp_directory_path() / "granular_collection.pvd";
+  app::writePvd(file, {{0.1, "paraview/a.vtp"}, {0.35, "paraview/b.vtp"}});
+  std::ifstream in(file);
+  const std::string text{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_NE(text.find("type=\"Collection\""), std::string::npos);
+  const auto a = text.find(
+      "timestep=\"0.10000000000000001\" group=\"\" part=\"0\" "
+      "file=\"paraview/a.vtp\"");
+  const auto b = text.find("file=\"paraview/b.vtp\"");
+  EXPECT_NE(a, std::string::npos) << text;
+  EXPECT_NE(b, std::string::npos);
+  EXPECT_LT(a, b);
+  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+  fs::remove(file);
+}
