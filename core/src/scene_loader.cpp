@@ -70,6 +70,7 @@
 #include "granular/scene.hpp"
 #include "grid_sampling.hpp"
 #include "particle_csv.hpp"
+#include "scene_schema.hpp"
 #include "toml_table_reader.hpp"
 
 namespace granular {
@@ -136,9 +137,8 @@ Material readMaterial(const TomlTableReader& root, const std::string& file) {
   Material m;
   const toml::table* table = root.subTable("material");
   if (!table) return m;
-  const TomlTableReader r(*table, "material", file,
-                          {"youngs_modulus", "poisson_ratio", "shear_modulus", "density",
-                           "friction", "normal_damping", "tangential_damping", "normal_law"});
+  const TomlTableReader r(*table, "material", file);
+  r.expectOnly(scene_schema::list(scene_schema::kMaterial));
   m.youngModulus = r.number("youngs_modulus", m.youngModulus, Range::aboveUpTo(0, kMaxModulus));
   m.poissonRatio = r.number("poisson_ratio", m.poissonRatio, Range::halfOpen(0, 0.5));
   m.shearModulus = r.number("shear_modulus", m.shearModulus, Range::aboveUpTo(0, kMaxModulus));
@@ -161,8 +161,8 @@ bool readSimulation(const TomlTableReader& root, const std::string& file,
                     SimulationConfig& config) {
   const toml::table* table = root.subTable("simulation");
   if (!table) root.failMissing("simulation");
-  const TomlTableReader r(*table, "simulation", file,
-                          {"gravity", "integrator", "time_step", "skin", "impact_speed"});
+  const TomlTableReader r(*table, "simulation", file);
+  r.expectOnly(scene_schema::list(scene_schema::kSimulation));
   config.gravity = r.vec3("gravity", config.gravity, Range::any());
   const std::string integrator = r.choice("integrator", "gear5", {"gear5", "verlet"});
   config.integrator = integrator == "verlet" ? Integrator::VelocityVerlet : Integrator::Gear5;
@@ -177,7 +177,8 @@ bool readSimulation(const TomlTableReader& root, const std::string& file,
 BoxSpec readBox(const TomlTableReader& root, const std::string& file) {
   const toml::table* table = root.subTable("box");
   if (!table) root.failMissing("box");
-  const TomlTableReader r(*table, "box", file, {"min", "max", "walls"});
+  const TomlTableReader r(*table, "box", file);
+  r.expectOnly(scene_schema::list(scene_schema::kBox));
   BoxSpec box;
   box.min = r.vec3("min", Range::any());
   box.max = r.vec3("max", Range::any());
@@ -221,8 +222,7 @@ void checkGridParticles(const TomlTableReader& r, const GridGenerator& g, const 
 }
 
 GridGenerator readGrid(const TomlTableReader& r, const BoxSpec& box, MotionBound& bound) {
-  r.expectOnly({"type", "origin", "cell_size", "cells", "count", "radius_min", "radius_max",
-                "speed_max", "seed"});
+  r.expectOnly(scene_schema::list(scene_schema::kGridParticles));
   GridGenerator g;
   g.origin = r.vec3("origin", Range::any());
   g.cellSize = r.number("cell_size", Range::above(0));
@@ -296,7 +296,7 @@ void checkNoOverlap(const TomlTableReader& r, const std::filesystem::path& path,
 
 CsvGenerator readCsv(const TomlTableReader& r, const std::filesystem::path& folder,
                      const BoxSpec& box, MotionBound& bound) {
-  r.expectOnly({"type", "file"});
+  r.expectOnly(scene_schema::list(scene_schema::kCsvParticles));
   const std::string name = r.string("file");
   if (name.empty()) r.fail("file", "must name a CSV file");
   CsvGenerator g;
@@ -334,8 +334,9 @@ std::vector<Generator> readParticles(const TomlTableReader& root, const std::str
     const TomlTableReader r(*array->get(i)->as_table(), "particles[" + std::to_string(i) + "]",
                             file);
     // Keys of either type first, so that a misspelt "type" gets a suggestion, not "missing".
-    r.expectOnly({"type", "origin", "cell_size", "cells", "count", "radius_min", "radius_max",
-                  "speed_max", "seed", "file"});
+    std::vector<std::string_view> either = scene_schema::list(scene_schema::kGridParticles);
+    either.push_back("file");
+    r.expectOnly(either);
     const std::string type = r.choice("type", "", {"grid", "csv"});
     if (type == "grid") {
       generators.emplace_back(readGrid(r, box, bound));
@@ -377,9 +378,8 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
   std::vector<StageSpec> stages;
   std::string topPlacedBy;  // name of the stage that placed the top wall, if any
   for (std::size_t i = 0; i < array->size(); ++i) {
-    const TomlTableReader r(*array->get(i)->as_table(), "stages[" + std::to_string(i) + "]", file,
-                            {"name", "max_time", "kinetic_energy_below", "sustain_time",
-                             "place_top_wall_on_surface", "reset_clock", "wall_velocity"});
+    const TomlTableReader r(*array->get(i)->as_table(), "stages[" + std::to_string(i) + "]", file);
+    r.expectOnly(scene_schema::list(scene_schema::kStage));
     StageSpec s;
     s.name = r.string("name", "stage" + std::to_string(i + 1));
     if (s.name.empty()) r.fail("name", "must not be empty");
@@ -419,7 +419,8 @@ OutputSpec readOutput(const TomlTableReader& root, const std::string& file) {
   OutputSpec output;
   const toml::table* table = root.subTable("output");
   if (!table) return output;
-  const TomlTableReader r(*table, "output", file, {"interval", "snapshots"});
+  const TomlTableReader r(*table, "output", file);
+  r.expectOnly(scene_schema::list(scene_schema::kOutput));
   output.interval = r.number("interval", output.interval, Range::above(0));
   output.snapshotTimes = r.numbers("snapshots", Range::atLeast(0));
   std::sort(output.snapshotTimes.begin(), output.snapshotTimes.end());
@@ -491,9 +492,8 @@ Scene loadScene(const std::filesystem::path& file) {
     throw SceneError(name + ": the scene is empty (no keys); docs/scenes.md lists them");
   }
 
-  const TomlTableReader root(
-      document, "", name,
-      {"material", "simulation", "box", "particles", "total_mass", "stages", "output"});
+  const TomlTableReader root(document, "", name);
+  root.expectOnly(scene_schema::list(scene_schema::kTopLevel));
   Scene scene;
   scene.sourceFile = file;
   scene.simulation.material = readMaterial(root, name);

@@ -1,0 +1,49 @@
+#pragma once
+/// The keys each table of a scene file accepts. The loader (scene_loader.cpp) checks every table
+/// against these lists, and a test checks docs/scenes.md against them in both directions, so
+/// the documentation cannot drift from the validator.
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace granular::scene_schema {
+
+inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
+                                                 "total_mass", "stages",     "output"};
+inline constexpr std::string_view kMaterial[] = {
+    "youngs_modulus", "poisson_ratio",  "shear_modulus",      "density",
+    "friction",       "normal_damping", "tangential_damping", "normal_law"};
+inline constexpr std::string_view kSimulation[] = {"gravity", "integrator", "time_step", "skin",
+                                                   "impact_speed"};
+inline constexpr std::string_view kBox[] = {"min", "max", "walls"};
+inline constexpr std::string_view kGridParticles[] = {"type",       "origin",    "cell_size",
+                                                      "cells",      "count",     "radius_min",
+                                                      "radius_max", "speed_max", "seed"};
+inline constexpr std::string_view kCsvParticles[] = {"type", "file"};
+inline constexpr std::string_view kStage[] = {"name",
+                                              "max_time",
+                                              "kinetic_energy_below",
+                                              "sustain_time",
+                                              "place_top_wall_on_surface",
+                                              "reset_clock",
+                                              "wall_velocity"};
+inline constexpr std::string_view kOutput[] = {"interval", "snapshots"};
+
+struct Table {
+  std::string_view name;  ///< as docs/scenes.md heads its section: "" top level, "particles.grid"
+  std::span<const std::string_view> keys;
+};
+inline constexpr Table kTables[] = {{"", kTopLevel},
+                                    {"material", kMaterial},
+                                    {"simulation", kSimulation},
+                                    {"box", kBox},
+                                    {"particles.grid", kGridParticles},
+                                    {"particles.csv", kCsvParticles},
+                                    {"stages", kStage},
+                                    {"output", kOutput}};
+
+inline std::vector<std::string_view> list(std::span<const std::string_view> keys) {
+  return {keys.begin(), keys.end()};
+}
+
+}  // namespace granular::scene_schema
