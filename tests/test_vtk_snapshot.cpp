@@ -4,17 +4,21 @@
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkXMLImageDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include "granular/stress.hpp"
 #include "physics_fixtures.hpp"
+#include "vtk_output.hpp"
 #include "vtk_snapshot.hpp"
 
 using namespace granular;
@@ -151,4 +155,47 @@ TEST(VtkSnapshot, CollectionListsItsFilesInTimeOrder) {
   EXPECT_LT(a, b);
   EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
   fs::remove(file);
+}
+
+TEST(VtkSnapshot, StressGridsAndTrajectoriesReadBackWithTheirValues) {
+  // The fields of `granular paper` (fields/*.vti, trajectories.vtp) through the same writers.
+  const fs::path dir = fs::temp_directory_path() / "granular_vtk_fields";
+  fs::create_directories(dir);
+  const std::array<int, 3> counts = {3, 2, 4};
+  app::GridArray sigma{"sigma33_Pa", 1, {}};
+  app::GridArray tensor{"stress_Pa", 9, {}};
+  for (int k = 0; k < 24; ++k) {
+    sigma.values.push_back(-100.0 * k);
+    for (int c = 0; c < 9; ++c) tensor.values.push_back(k + 0.1 * c);
+  }
+  app::writeVti(dir / "grid.vti", Vec3(0.1, 0.2, 0.3), Vec3(0.5, 0.25, 0.125), counts,
+                {sigma, tensor});
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName((dir / "grid.vti").c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 3);
+  EXPECT_EQ(dims[1], 2);
+  EXPECT_EQ(dims[2], 4);
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  EXPECT_EQ(spacing[2], 0.125);
+  EXPECT_EQ(origin[1], 0.2);
+  vtkDataArray* s = image->GetPointData()->GetArray("sigma33_Pa");
+  vtkDataArray* t = image->GetPointData()->GetArray("stress_Pa");
+  ASSERT_TRUE(s && t);
+  EXPECT_EQ(t->GetNumberOfComponents(), 9);
+  for (vtkIdType k = 0; k < 24; ++k) {
+    EXPECT_EQ(s->GetTuple1(k), -100.0 * double(k));  // x fastest, as written
+    EXPECT_EQ(t->GetComponent(k, 7), double(k) + 0.1 * 7);
+  }
+  app::writeVtpLines(dir / "lines.vtp", {{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0)},
+                                         {Vec3(0, 0, 1), Vec3(0, 0, 2)}});
+  const auto lines = readVtp(dir / "lines.vtp");
+  EXPECT_EQ(lines->GetNumberOfLines(), 2);
+  EXPECT_EQ(lines->GetNumberOfPoints(), 5);
+  fs::remove_all(dir);
 }
