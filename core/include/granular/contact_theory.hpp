@@ -43,9 +43,9 @@ ContactScale stiffestContact(const Material& material, double smallestRadius, do
 /// spring; 1/10 keeps a margin for a particle with many contacts and for damping (a settled
 /// 144-sphere bed holds its energy at t_c/10, Hooke and Hertz, μ = 0.3, γn = 200 1/s). Gear's
 /// predictor-corrector has a much smaller stability region once the force depends on the
-/// velocity: the same bed gains energy under Gear at t_c/15 (γn = 60 1/s) and t_c/40 (γn = 200),
-/// and holds it at t_c/50 (bench/RESULTS.md, "Gear in a bed"). The usual accurate range is
-/// 1/50 to 1/20 for Verlet, 1/50 and below for Gear.
+/// velocity: the same bed gains energy under Gear at t_c/10 (Hooke, γn = 60 1/s) and up to t_c/40
+/// (Hertz, γn = 200), and holds it at t_c/50 (bench/RESULTS.md, "Gear in a bed"). The usual
+/// accurate range is 1/50 to 1/20 for Verlet, 1/50 and below for Gear.
 inline constexpr double kMaxStepFractionVerlet = 0.1;
 inline constexpr double kMaxStepFractionGear5 = 0.02;
 
