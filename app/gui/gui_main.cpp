@@ -14,6 +14,8 @@
 #include <exception>
 #include <filesystem>
 #include <future>
+#include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "granular/render/colormap.hpp"
 #include "granular/render/image.hpp"
 #include "granular/render/particle_view.hpp"
+#include "gui_options.hpp"
 #include "gui_script.hpp"
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
@@ -30,28 +33,6 @@ using namespace granular;
 using namespace granular::gui;
 
 namespace {
-
-constexpr const char* kUsage =
-    "usage: granular-gui [--scene FILE] [--frames N] [--screenshot FILE] [--script TEXT]\n"
-    "                    [--width PX] [--height PX]\n"
-    "  --scene FILE       scene to load (default: the paper's mu = 0.3 case)\n"
-    "  --frames N         quit after N frames (scripted runs)\n"
-    "  --screenshot FILE  write the window as a PNG when quitting\n"
-    "  --script TEXT      commands separated by ';', one per frame: run, pause, reset, stage2,\n"
-    "                     step N, speed N, mu X, gamma-n X, gamma-t X, youngs-modulus X,\n"
-    "                     wall-velocity X, colour force|speed|stress|none, frames N,\n"
-    "                     wait-steps N,\n"
-    "                     screenshot FILE, load-checkpoint FILE, save-checkpoint FILE,\n"
-    "                     save-view FILE, export-figures DIR, quit\n"
-    "Mouse in the 3-D view: left drag orbits, right drag pans, the wheel zooms.\n";
-
-struct Options {
-  fs::path scene = fs::path(GRANULAR_SCENES_DIR) / "paper-mu03.toml";
-  long frames = -1;
-  fs::path screenshot;
-  std::string script;
-  int width = 1280, height = 800;
-};
 
 /// The few GL calls the window itself makes (the renderer and ImGui load their own).
 struct WindowGl {
@@ -84,50 +65,6 @@ WindowGl loadWindowGl() {
   load(gl.readPixels, "glReadPixels");
   load(gl.pixelStorei, "glPixelStorei");
   return gl;
-}
-
-bool parseOptions(int argc, char** argv, Options& o) {
-  for (int a = 1; a < argc; ++a) {
-    const std::string arg = argv[a];
-    auto value = [&]() -> std::string {
-      if (a + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      return argv[++a];
-    };
-    auto integer = [&](long lo, long hi) {
-      const std::string v = value();
-      std::size_t used = 0;
-      long n = 0;
-      try {
-        n = std::stol(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || n < lo || n > hi) {
-        throw std::invalid_argument(arg + " " + v + ": expected an integer in [" +
-                                    std::to_string(lo) + ", " + std::to_string(hi) + "]");
-      }
-      return n;
-    };
-    if (arg == "-h" || arg == "--help") {
-      std::fputs(kUsage, stdout);
-      return false;
-    } else if (arg == "--scene") {
-      o.scene = value();
-    } else if (arg == "--frames") {
-      o.frames = integer(1, 100000000);
-    } else if (arg == "--screenshot") {
-      o.screenshot = value();
-    } else if (arg == "--script") {
-      o.script = value();
-    } else if (arg == "--width") {
-      o.width = int(integer(640, 8192));
-    } else if (arg == "--height") {
-      o.height = int(integer(480, 8192));
-    } else {
-      throw std::invalid_argument("unknown option '" + arg + "' (try --help)");
-    }
-  }
-  return true;
 }
 
 enum class Colouring { Force, Speed, Stress, None };
@@ -464,7 +401,7 @@ class ScriptPlayer {
   std::chrono::steady_clock::time_point deadline_;
 };
 
-int runWindow(const Options& options) {
+int runWindow(const GuiOptions& options) {
   ScriptPlayer script(parseScript(options.script));
   SimRunner runner(options.scene);  // a bad scene fails before any window opens
 
@@ -630,9 +567,13 @@ int runWindow(const Options& options) {
 
 int main(int argc, char** argv) {
   try {
-    Options options;
-    if (!parseOptions(argc, argv, options)) return 0;
+    GuiOptions options;
+    options.scene = fs::path(GRANULAR_SCENES_DIR) / "paper-mu03.toml";
+    if (!parseGuiOptions(argc, argv, options, std::cout)) return 0;
     return runWindow(options);
+  } catch (const std::invalid_argument& e) {  // a bad option or script: 2, as for granular
+    std::fprintf(stderr, "granular-gui: %s\n", e.what());
+    return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "granular-gui: %s\n", e.what());
     return 1;

@@ -1,18 +1,70 @@
 #include "gui_script.hpp"
 
-#include <set>
 #include <sstream>
 #include <stdexcept>
 
 namespace granular::gui {
 
+namespace {
+
+/// What a verb takes after it; the syntax text and the parser both read this one table.
+enum class Argument { None, Number, Value };
+
+struct Verb {
+  const char* name;
+  Argument argument;
+  const char* placeholder;  ///< as the syntax text shows the argument
+};
+
+constexpr Verb kVerbs[] = {
+    {"run", Argument::None, ""},
+    {"pause", Argument::None, ""},
+    {"reset", Argument::None, ""},
+    {"stage2", Argument::None, ""},
+    {"step", Argument::Number, "N"},
+    {"speed", Argument::Number, "N"},
+    {"mu", Argument::Number, "X"},
+    {"gamma-n", Argument::Number, "X"},
+    {"gamma-t", Argument::Number, "X"},
+    {"youngs-modulus", Argument::Number, "X"},
+    {"wall-velocity", Argument::Number, "X"},
+    {"colour", Argument::Value, "force|speed|stress|none"},
+    {"frames", Argument::Number, "N"},
+    {"wait-steps", Argument::Number, "N"},
+    {"screenshot", Argument::Value, "FILE"},
+    {"save-view", Argument::Value, "FILE"},
+    {"load-checkpoint", Argument::Value, "FILE"},
+    {"save-checkpoint", Argument::Value, "FILE"},
+    {"export-figures", Argument::Value, "DIR"},
+    {"quit", Argument::None, ""},
+};
+
+const Verb* findVerb(const std::string& name) {
+  for (const Verb& v : kVerbs) {
+    if (name == v.name) return &v;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<std::string> scriptVerbs() {
+  std::vector<std::string> names;
+  for (const Verb& v : kVerbs) names.emplace_back(v.name);
+  return names;
+}
+
+std::string scriptSyntax() {
+  std::string text;
+  for (const Verb& v : kVerbs) {
+    if (!text.empty()) text += ", ";
+    text += v.name;
+    if (v.argument != Argument::None) text += std::string(" ") + v.placeholder;
+  }
+  return text;
+}
+
 std::vector<ScriptCommand> parseScript(const std::string& text) {
-  static const std::set<std::string> bare = {"run", "pause", "reset", "stage2", "quit"};
-  static const std::set<std::string> numeric = {"step",          "speed",   "mu",
-                                                "gamma-n",       "gamma-t", "youngs-modulus",
-                                                "wall-velocity", "frames",  "wait-steps"};
-  static const std::set<std::string> word = {"colour",          "screenshot",     "load-checkpoint",
-                                             "save-checkpoint", "export-figures", "save-view"};
   std::vector<ScriptCommand> commands;
   std::stringstream all(text);
   std::string item;
@@ -25,35 +77,40 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
     if (parts >> extra) {
       throw std::invalid_argument("script: '" + item + "': one argument at most");
     }
-    if (bare.count(c.verb)) {
-      if (!c.argument.empty()) {
-        throw std::invalid_argument("script: '" + c.verb + "' takes no argument");
+    const Verb* verb = findVerb(c.verb);
+    if (!verb) {
+      throw std::invalid_argument("script: unknown command '" + c.verb + "' (" + scriptSyntax() +
+                                  ")");
+    }
+    switch (verb->argument) {
+      case Argument::None:
+        if (!c.argument.empty()) {
+          throw std::invalid_argument("script: '" + c.verb + "' takes no argument");
+        }
+        break;
+      case Argument::Number: {
+        std::size_t used = 0;
+        try {
+          std::stod(c.argument, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (c.argument.empty() || used != c.argument.size()) {
+          throw std::invalid_argument("script: '" + c.verb + "' needs a number, got '" +
+                                      c.argument + "'");
+        }
+        break;
       }
-    } else if (numeric.count(c.verb)) {
-      std::size_t used = 0;
-      try {
-        std::stod(c.argument, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (c.argument.empty() || used != c.argument.size()) {
-        throw std::invalid_argument("script: '" + c.verb + "' needs a number, got '" + c.argument +
-                                    "'");
-      }
-    } else if (word.count(c.verb)) {
-      if (c.argument.empty()) throw std::invalid_argument("script: '" + c.verb + "' needs a value");
-      if (c.verb == "colour" && c.argument != "force" && c.argument != "speed" &&
-          c.argument != "stress" && c.argument != "none") {
-        throw std::invalid_argument("script: colour '" + c.argument +
-                                    "': expected force, speed, stress or none");
-      }
-    } else {
-      throw std::invalid_argument(
-          "script: unknown command '" + c.verb +
-          "' (run, pause, reset, stage2, step N, speed N, mu X, gamma-n X, gamma-t X, "
-          "youngs-modulus X, wall-velocity X, colour force|speed|stress|none, frames N, "
-          "wait-steps N, screenshot FILE, load-checkpoint FILE, save-checkpoint FILE, "
-          "save-view FILE, export-figures DIR, quit)");
+      case Argument::Value:
+        if (c.argument.empty()) {
+          throw std::invalid_argument("script: '" + c.verb + "' needs a value");
+        }
+        if (c.verb == "colour" && c.argument != "force" && c.argument != "speed" &&
+            c.argument != "stress" && c.argument != "none") {
+          throw std::invalid_argument("script: colour '" + c.argument +
+                                      "': expected force, speed, stress or none");
+        }
+        break;
     }
     commands.push_back(c);
   }

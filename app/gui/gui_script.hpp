@@ -17,6 +17,12 @@ struct ScriptCommand {
   std::string argument;  ///< empty for verbs without one
 };
 
+/// Every verb the parser accepts, in the order the help lists them.
+std::vector<std::string> scriptVerbs();
+
+/// The verbs with their arguments ("run, pause, …, step N, …"), for --help and error messages.
+std::string scriptSyntax();
+
 /// Parses `text`; throws std::invalid_argument naming the bad command and what was expected.
 std::vector<ScriptCommand> parseScript(const std::string& text);
 

@@ -1,0 +1,40 @@
+#pragma once
+/// granular's command line: every subcommand and option in one place, so `main` only parses and
+/// dispatches and the tests can walk the same tree (help completeness, docs/guide.md's reference).
+#include <CLI/CLI.hpp>
+#include <filesystem>
+
+#include "bench_accuracy_command.hpp"
+#include "calibrate_command.hpp"
+#include "paper_command.hpp"
+#include "run_command.hpp"
+
+namespace granular::app {
+
+class CommandLine {
+ public:
+  CommandLine();
+  CommandLine(const CommandLine&) = delete;
+  CommandLine& operator=(const CommandLine&) = delete;
+
+  CLI::App& app() { return app_; }
+
+  /// Parses and runs the chosen subcommand. Exit status: 0 done (or --help), 1 I/O error,
+  /// 2 invalid scene, configuration or arguments, 3 the simulation's state broke.
+  int run(int argc, char** argv);
+
+ private:
+  CLI::App app_{"granular: discrete-element simulation of spheres in a box"};
+  RunOptions run_;
+  PaperOptions paper_;
+  CalibrateOptions calibrate_;
+  std::filesystem::path figuresDir_;
+  BenchAccuracyOptions bench_;
+  CLI::App* runCommand_ = nullptr;
+  CLI::App* paperCommand_ = nullptr;
+  CLI::App* calibrateCommand_ = nullptr;
+  CLI::App* figuresCommand_ = nullptr;
+  CLI::App* benchCommand_ = nullptr;
+};
+
+}  // namespace granular::app
