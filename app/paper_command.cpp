@@ -2,9 +2,12 @@
 /// the report.
 #include "paper_command.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -19,6 +22,7 @@
 #include "paper_report.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
+#include "vtk_snapshot.hpp"
 
 namespace granular::app {
 namespace {
@@ -130,6 +134,47 @@ void writeFinalStress(const std::filesystem::path& path, const BoxStress& b) {
   writeTextFile(path, out.str());
 }
 
+/// ParaView files of stage 2 every `kParaviewInterval` of its clock, from the settled bed (t = 0)
+/// to the end: paraview/compaction_<t>_{particles,contacts,walls}.vtp and one .pvd per kind,
+/// rewritten with each snapshot so an interrupted run still opens.
+constexpr double kParaviewInterval = 0.1;  // [s]
+
+class CompactionParaview {
+ public:
+  CompactionParaview(std::filesystem::path dir, const Scene& scene) : dir_(std::move(dir)) {
+    boxMin_ = scene.box.min;
+    boxMax_ = scene.box.max;
+    every_ = std::max(1L, std::lround(kParaviewInterval / scene.output.interval));
+    interval_ = scene.output.interval;
+    std::filesystem::create_directories(dir_ / "paraview");
+  }
+
+  /// Called with every stage-2 sample, the first at t = 0.
+  void sample(const Simulation& sim) {
+    const long index = samples_++;
+    if (index % every_ != 0) return;
+    // Rounded to a nanosecond so 7 × 0.1 names its file 0.7, not 0.7000000000000001.
+    const double t = std::round(static_cast<double>(index) * interval_ * 1e9) / 1e9;
+    for (const char* kind : {"particles", "contacts", "walls"}) {
+      const std::filesystem::path file =
+          std::filesystem::path("paraview") / ("compaction_" + csvNumber(t) + "_" + kind + ".vtp");
+      const std::string k = kind;
+      if (k == "particles") writeParticlesVtp(dir_ / file, sim);
+      if (k == "contacts") writeContactsVtp(dir_ / file, sim);
+      if (k == "walls") writeWallsVtp(dir_ / file, sim, boxMin_, boxMax_);
+      entries_[k].push_back({t, file});
+      writePvd(dir_ / ("compaction_" + k + ".pvd"), entries_[k]);
+    }
+  }
+
+ private:
+  std::filesystem::path dir_;
+  Vec3 boxMin_, boxMax_;
+  long every_ = 1, samples_ = 0;
+  double interval_ = 0;
+  std::map<std::string, std::vector<PvdEntry>> entries_;
+};
+
 // 2. One case -------------------------------------------------------------------------------------
 
 CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
@@ -146,6 +191,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   outcome.reference = &ref;
   std::unique_ptr<TimeSeriesWriter> settleSeries;  // opened only if stage 1 really runs
   TimeSeriesWriter compactSeries(dir / "compaction_timeseries.csv", reactionWallNames(scene));
+  CompactionParaview paraview(dir, scene);
   const StageSpec& settleStage = scene.stages.at(0);
 
   CompactionOptions run;
@@ -183,6 +229,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
       settleSeries->write(stage, sim);
     } else {
       compactSeries.write(stage, sim);
+      paraview.sample(sim);
     }
   };
   run.onProgress = [&](const Simulation& sim, const StageSpec& stage) {
