@@ -53,6 +53,7 @@ struct ContactChunk {
   alignas(64) double nx[kChunk], ny[kChunk], nz[kChunk];  ///< unit normal from i to the other
   alignas(64) double overlap[kChunk];                     ///< h [m]
   alignas(64) double armI[kChunk];                        ///< lever arm R_i - h/2 [m]
+  alignas(64) double armJ[kChunk];  ///< pairs with friction: lever arm R_j - h/2 [m]
   alignas(64) double radius[kChunk], mass[kChunk];        ///< R_ij [m], m_ij [kg]
   alignas(64) double vx[kChunk], vy[kChunk], vz[kChunk];  ///< v_i - v_other [m/s]
   alignas(64) double cx[kChunk], cy[kChunk], cz[kChunk];  ///< contact-point velocity [m/s]
@@ -98,6 +99,7 @@ template <bool kFriction>
     if constexpr (kFriction) {
       // Contact-point velocity of i relative to j: v_i - v_j + (a_i ω_i + a_j ω_j) × n.
       const double armJ = c.rj[k] - 0.5 * h;
+      c.armJ[k] = armJ;
       const double ax = armI * c.wix[k] + armJ * c.wjx[k];
       const double ay = armI * c.wiy[k] + armJ * c.wjy[k];
       const double az = armI * c.wiz[k] + armJ * c.wjz[k];

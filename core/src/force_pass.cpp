@@ -424,18 +424,37 @@ class PlannedPass {
       kern_.law(constants_, chunk, m, kFriction, kLaw, true);
       addChunkPowers<kFriction>(chunk, m, powers);
       powers.particleContacts += m;
+      // Pairs come by ascending first particle: i's force and torque stay in registers over
+      // its run of contacts (stored once when i changes), which breaks the chain of stores and
+      // reloads of one address. The adds are the same, in the same order: the same bits.
+      // j > i, so no j of the run is i.
+      std::uint32_t current = 0;
+      Vec3 forceI = Vec3::Zero(), torqueI = Vec3::Zero();
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list_.first[chunk.slot[e]], j = list_.second[chunk.slot[e]];
+        if (e == 0 || i != current) {
+          if (e > 0) {
+            s_.force[current] = forceI;
+            if constexpr (kFriction) s_.torque[current] = torqueI;
+          }
+          current = i;
+          forceI = s_.force[i];
+          if constexpr (kFriction) torqueI = s_.torque[i];
+        }
         const Vec3 f = forceOf(chunk, e);
         const bool ownsJ = j < ownEnd_;  // else j's part adds it from the crossing slot
-        s_.force[i] += f;
+        forceI += f;
         if (ownsJ) s_.force[j] -= f;
         if constexpr (kFriction) {
           // d_ci × F = a_i n × F on i; (-a_j n) × (-F) = a_j n × F on j.
           const Vec3 moment(chunk.mx[e], chunk.my[e], chunk.mz[e]);
-          s_.torque[i] += (p_.radius[i] - 0.5 * chunk.overlap[e]) * moment;
-          if (ownsJ) s_.torque[j] += (p_.radius[j] - 0.5 * chunk.overlap[e]) * moment;
+          torqueI += chunk.armI[e] * moment;
+          if (ownsJ) s_.torque[j] += chunk.armJ[e] * moment;
         }
+      }
+      if (m > 0) {
+        s_.force[current] = forceI;
+        if constexpr (kFriction) s_.torque[current] = torqueI;
       }
       if constexpr (kFriction) {  // a contact that opened forgets its spring
         std::fill_n(list_.history.begin() + begin, count, TangentialHistory{});
