@@ -7,8 +7,8 @@
 /// visits every contact; 4. dispatch.
 ///
 /// On several threads each thread owns a run of particles and adds their contacts' forces
-/// straight to them; the few pairs that straddle two threads are computed once more, before,
-/// into slots the second particle's thread adds (ForcePlan in simulation_state.hpp). Every
+/// straight to them; the few pairs that straddle two threads are computed by both, each adding
+/// its own particle's share (ForcePlan in simulation_state.hpp), so no thread waits. Every
 /// particle receives its contacts in the same order for any thread count, and the sums run in
 /// fixed blocks, so the result does not depend on the thread count, bit for bit.
 #include <omp.h>
@@ -161,9 +161,10 @@ inline void loadSpring(const TangentialHistory& spring, ContactChunk& c, std::si
 }
 
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
-/// geometry is computed next, by the kernel).
-template <bool kFriction>
-void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
+/// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
+template <bool kFriction, class SpringOf>
+void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m,
+               SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t k = c.slot[e];
     const std::uint32_t i = list.first[k], j = list.second[k];
@@ -182,9 +183,17 @@ void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, s
       c.wjx[e] = wj.x();
       c.wjy[e] = wj.y();
       c.wjz[e] = wj.z();
-      loadSpring(list.history[k], c, e);
+      loadSpring(springOf(e), c, e);
     }
   }
+}
+
+/// loadPairs with the springs of the list's history (by the pair's slot).
+template <bool kFriction>
+void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
+  loadPairs<kFriction>(p, list, c, m, [&](std::size_t e) -> const TangentialHistory& {
+    return list.history[c.slot[e]];
+  });
 }
 
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
@@ -313,14 +322,12 @@ void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int t
   }
   // Crossing pairs, by the thread of their first; then by the thread of their second.
   x.crossing.clear();
-  x.crossingStart.assign(1, 0);
   for (int t = 0; t < threads; ++t) {
     const std::uint32_t ownEnd = x.blockParticle[x.threadBlock[t + 1]];
     for (std::uint32_t k = x.blockPair[x.threadBlock[t]]; k < x.blockPair[x.threadBlock[t + 1]];
          ++k) {
       if (list.second[k] >= ownEnd) x.crossing.push_back(k);
     }
-    x.crossingStart.push_back(static_cast<std::uint32_t>(x.crossing.size()));
   }
   x.incoming.resize(x.crossing.size());
   for (std::size_t q = 0; q < x.crossing.size(); ++q) x.incoming[q] = static_cast<std::uint32_t>(q);
@@ -346,9 +353,12 @@ struct CandidateSpan {
   std::uint32_t wall, begin, end;
 };
 
-/// One force pass over a plan (ForcePlan): `crossingPhase` computes thread part t's crossing
-/// pairs into their slots; `ownedPhase` then adds its incoming slots and computes its blocks,
-/// adding every contact straight to its own particles.
+/// One force pass over a plan (ForcePlan): `ownedPhase` computes thread part t's pairs and
+/// walls, adding every contact straight to its own particles. A pair straddling two parts is
+/// computed by both: by its first's part as any other pair (which advances and stores its
+/// spring) and, with the same inputs, by its second's part, which adds only the second's share.
+/// The second's part reads the spring from a copy taken before the pass (crossingSpring), so
+/// the parts need no barrier and never touch the same memory.
 template <bool kFriction, NormalLaw kLaw>
 class PlannedPass {
  public:
@@ -362,32 +372,6 @@ class PlannedPass {
         kern_(kernels()),
         walls_(s.walls.size()) {}
 
-  void crossingPhase(std::size_t t, ContactChunk& chunk) {
-    const std::size_t end = plan_.crossingStart[t + 1];
-    for (std::size_t begin = plan_.crossingStart[t]; begin < end; begin += kChunk) {
-      const std::size_t count = std::min(kChunk, end - begin);
-      std::uint32_t at[kChunk];  // each picked pair's crossing slot
-      std::size_t m = 0;
-      for (std::size_t q = begin; q < begin + count; ++q) {
-        at[m] = static_cast<std::uint32_t>(q);
-        m += pickPair(p_, list_, plan_.crossing[q], chunk, m);
-      }
-      loadPairs<kFriction>(p_, list_, chunk, m);
-      kern_.geometry(chunk, m, kFriction);
-      // Advanced as the owned phase will (the force uses the new spring), but not stored.
-      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
-      std::fill_n(out_.crossingTouching.begin() + begin, count, 0);
-      for (std::size_t e = 0; e < m; ++e) {
-        out_.crossingTouching[at[e]] = 1;
-        out_.crossingForce[at[e]] = forceOf(chunk, e);
-        if constexpr (kFriction) {
-          out_.crossingMoment[at[e]] = Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
-          out_.crossingOverlap[at[e]] = chunk.overlap[e];
-        }
-      }
-    }
-  }
-
   void ownedPhase(std::size_t t, ContactChunk& chunk) {
     const std::size_t ownBegin = plan_.blockParticle[plan_.threadBlock[t]];
     ownEnd_ = plan_.blockParticle[plan_.threadBlock[t + 1]];
@@ -395,16 +379,7 @@ class PlannedPass {
     if constexpr (kFriction) {
       std::fill(s_.torque.begin() + ownBegin, s_.torque.begin() + ownEnd_, Vec3::Zero());
     }
-    // Pairs with their first on an earlier part: before any of our own (ascending first).
-    for (std::size_t e = plan_.incomingStart[t]; e < plan_.incomingStart[t + 1]; ++e) {
-      const std::uint32_t q = plan_.incoming[e];
-      if (!out_.crossingTouching[q]) continue;  // as on one thread: nothing added
-      const std::uint32_t j = list_.second[plan_.crossing[q]];
-      s_.force[j] -= out_.crossingForce[q];
-      if constexpr (kFriction) {
-        s_.torque[j] += (p_.radius[j] - 0.5 * out_.crossingOverlap[q]) * out_.crossingMoment[q];
-      }
-    }
+    incomingPairs(t, chunk);
     for (std::size_t b = plan_.threadBlock[t]; b < plan_.threadBlock[t + 1]; ++b) {
       ContactPowers powers;  // local: kept in registers
       blockPairs(b, chunk, powers);
@@ -414,6 +389,35 @@ class PlannedPass {
   }
 
  private:
+  /// Pairs with their first on an earlier part, before any of our own (by second, then
+  /// ascending first): the second's share only, as one thread adds it. Advanced as the first's
+  /// part advances them (the force uses the new spring), but not stored.
+  void incomingPairs(std::size_t t, ContactChunk& chunk) {
+    const std::size_t end = plan_.incomingStart[t + 1];
+    for (std::size_t begin = plan_.incomingStart[t]; begin < end; begin += kChunk) {
+      const std::size_t count = std::min(kChunk, end - begin);
+      std::uint32_t at[kChunk];  // each picked pair's crossing slot
+      std::size_t m = 0;
+      for (std::size_t e = begin; e < begin + count; ++e) {
+        const std::uint32_t q = plan_.incoming[e];
+        at[m] = q;
+        m += pickPair(p_, list_, plan_.crossing[q], chunk, m);
+      }
+      loadPairs<kFriction>(p_, list_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+        return out_.crossingSpring[at[e]];
+      });
+      kern_.geometry(chunk, m, kFriction);
+      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+      for (std::size_t e = 0; e < m; ++e) {
+        const std::uint32_t j = list_.second[chunk.slot[e]];
+        s_.force[j] -= forceOf(chunk, e);
+        if constexpr (kFriction) {
+          s_.torque[j] += chunk.armJ[e] * Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+        }
+      }
+    }
+  }
+
   void blockPairs(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
     const std::size_t end = plan_.blockPair[b + 1];
     for (std::size_t begin = plan_.blockPair[b]; begin < end; begin += kChunk) {
@@ -442,7 +446,7 @@ class PlannedPass {
           if constexpr (kFriction) torqueI = s_.torque[i];
         }
         const Vec3 f = forceOf(chunk, e);
-        const bool ownsJ = j < ownEnd_;  // else j's part adds it from the crossing slot
+        const bool ownsJ = j < ownEnd_;  // else j's part computes and adds j's share
         forceI += f;
         if (ownsJ) s_.force[j] -= f;
         if constexpr (kFriction) {
@@ -525,13 +529,13 @@ class PlannedPass {
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
 
-/// The hot pass. On one thread, one part owns every block. On several, each part first
-/// computes its crossing pairs, then (after a barrier) adds its incoming ones and its own
-/// contacts: every particle receives its contacts in the same order for any thread count
+/// The hot pass. On one thread, one part owns every block. On several, each part computes its
+/// incoming pairs (the second's share), then its own contacts, with no barrier between parts:
+/// every particle receives its contacts in the same order for any thread count
 /// (ForcePlan), and the powers and wall reactions are summed per block and then in block
 /// order, so the result is the same bits.
 template <bool kFriction, NormalLaw kLaw>
-void forcePass(SimulationState& s, double dt, int threads) {
+int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoop* after) {
   NeighbourList& list = s.neighbours;
   const std::size_t n = s.particles.size(), walls = s.walls.size();
   if (!list.plan.valid || list.plan.threads != threads) {
@@ -540,37 +544,42 @@ void forcePass(SimulationState& s, double dt, int threads) {
   const ForcePlan& plan = list.plan;
   const std::size_t blocks = plan.blockParticle.size() - 1, crossings = plan.crossing.size();
   ContactScratch& out = s.contactScratch;
-  resizeScratch(out.crossingTouching, crossings);
-  resizeScratch(out.crossingForce, crossings);
-  if constexpr (kFriction) {
-    resizeScratch(out.crossingMoment, crossings);
-    resizeScratch(out.crossingOverlap, crossings);
+  if constexpr (kFriction) {  // the straddling pairs' springs as they are before the pass
+    resizeScratch(out.crossingSpring, crossings);
+    for (std::size_t q = 0; q < crossings; ++q) {
+      out.crossingSpring[q] = list.history[plan.crossing[q]];
+    }
   }
   out.blockPowers.resize(blocks);
   out.blockReaction.resize(blocks * walls);
   resizeScratch(s.force, n);
   if constexpr (kFriction) resizeScratch(s.torque, n);
 
+  int broken = 0;
   if (threads == 1) {
     PlannedPass<kFriction, kLaw> pass(s, dt);
     ContactChunk chunk;
     pass.ownedPhase(0, chunk);
+    if (after) broken = (*after)(0, n);
   } else {
-#pragma omp parallel num_threads(threads)
+#pragma omp parallel num_threads(threads) reduction(| : broken)
     {
       // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
       const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
       const std::size_t parts = static_cast<std::size_t>(threads);
       PlannedPass<kFriction, kLaw> pass(s, dt);
       ContactChunk chunk;  // per thread, on its stack
-      for (std::size_t t = omp_get_thread_num(); t < parts; t += team) {
-        pass.crossingPhase(t, chunk);
-      }
-#pragma omp barrier
       for (std::size_t t = omp_get_thread_num(); t < parts; t += team) pass.ownedPhase(t, chunk);
+      if (after) {
+        // Every part has read every position it needs: each part's particles may now move.
+#pragma omp barrier
+        for (std::size_t t = omp_get_thread_num(); t < parts; t += team) {
+          broken |= (*after)(plan.blockParticle[plan.threadBlock[t]],
+                             plan.blockParticle[plan.threadBlock[t + 1]]);
+        }
+      }
     }
   }
-
   ContactPowers powers;
   for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
   s.powers = powers;
@@ -579,6 +588,7 @@ void forcePass(SimulationState& s, double dt, int threads) {
     for (std::size_t b = 0; b < blocks; ++b) reaction += out.blockReaction[b * walls + w];
     s.walls[w].reaction = reaction;
   }
+  return broken;
 }
 
 // ---- 3. The measuring pass ----------------------------------------------------------------
@@ -652,9 +662,13 @@ bool setForceKernelBuild(ForceKernelBuild build) {
   return true;
 }
 
-void computeContactForces(SimulationState& s, double dt) {
+int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
-  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() { forcePass<kFriction, kLaw>(s, dt, threads); });
+  int broken = 0;
+  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() {
+    broken = forcePass<kFriction, kLaw>(s, dt, threads, after);
+  });
+  return broken;
 }
 
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,

@@ -220,23 +220,24 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
 
 // ---- Staleness ----------------------------------------------------------------------------
 
-bool neighbourListStale(const NeighbourList& list, const Particles& p,
-                        const std::vector<Wall>& walls, int threads) {
+double largestMove2(const NeighbourList& list, const Particles& p, std::size_t begin,
+                    std::size_t end) {
+  if (list.referencePosition.size() != p.size()) return 0.0;  // the list is stale anyway
+  double move2 = 0.0;
+  for (std::size_t i = begin; i < end; ++i) {
+    move2 = std::max(move2, (p.position[i] - list.referencePosition[i]).squaredNorm());
+  }
+  return move2;
+}
+
+bool neighbourListStaleAfter(const NeighbourList& list, const Particles& p,
+                             const std::vector<Wall>& walls, double maxMove2) {
   if (!list.valid || list.referencePosition.size() != p.size() ||
       list.referenceWallPoint.size() != walls.size()) {
     return true;
   }
   // Two particles approach by at most twice the largest displacement; a particle and a wall by
   // the particle's displacement plus the wall's.
-  double maxMove2 = 0.0;  // a maximum is exact in any order: the reduction is deterministic
-  const std::size_t n = p.size();
-  const int teams = threads > 0 ? threads : omp_get_max_threads();
-  // Every step: one thread does not pay for starting a parallel region.
-#pragma omp parallel for schedule(static) reduction(max \
-                                                    : maxMove2) num_threads(teams) if (teams > 1)
-  for (std::size_t i = 0; i < n; ++i) {
-    maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
-  }
   const double maxMove = std::sqrt(maxMove2);
   if (2.0 * maxMove >= list.skin) return true;
   for (std::size_t w = 0; w < walls.size(); ++w) {
@@ -245,6 +246,19 @@ bool neighbourListStale(const NeighbourList& list, const Particles& p,
     if (maxMove + wallMove >= list.skin) return true;
   }
   return false;
+}
+
+bool neighbourListStale(const NeighbourList& list, const Particles& p,
+                        const std::vector<Wall>& walls, int threads) {
+  double maxMove2 = 0.0;  // a maximum is exact in any order: the reduction is deterministic
+  const std::size_t n = list.referencePosition.size() == p.size() ? p.size() : 0;
+  const int teams = threads > 0 ? threads : omp_get_max_threads();
+#pragma omp parallel for schedule(static) reduction(max \
+                                                    : maxMove2) num_threads(teams) if (teams > 1)
+  for (std::size_t i = 0; i < n; ++i) {
+    maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
+  }
+  return neighbourListStaleAfter(list, p, walls, maxMove2);
 }
 
 }  // namespace granular

@@ -243,36 +243,41 @@ void Simulation::step() {
   const FlatMotion move = FlatMotion::of(&p.position, p.velocity, s.translation);
   const FlatMotion turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
   const bool rotating = s.frictional;
+  // On the same ranges, each range's largest move since the neighbour list was built (a
+  // maximum: the same in any split), so the staleness test needs no pass of its own.
+  s.rangeMove2.assign(static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads()), 0.0);
   auto predict = [&](std::size_t b, std::size_t e) {
+    int broken = 0;
     if (gear) {
       gearPredictRange(move, dt, 3 * b, 3 * e);
       if (rotating) gearPredictRange(turn, dt, 3 * b, 3 * e);
-      return 0;
+    } else {
+      broken = verletDriftRange(move, dt, 3 * b, 3 * e);
+      if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
     }
-    int broken = verletDriftRange(move, dt, 3 * b, 3 * e);
-    if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
+    s.rangeMove2[static_cast<std::size_t>(omp_get_thread_num())] =
+        largestMove2(s.neighbours, p, b, e);
     return broken;
   };
   const bool driftedFinite = overRanges(n, threads, predict) == 0;
+  const double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
   ++s.stepsSinceOrigin;
   ++s.steps;
   // 3. Neighbours.
-  if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls, threads)) {
+  if (s.rebuildEveryStep || neighbourListStaleAfter(s.neighbours, p, s.walls, maxMove2)) {
     rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional, threads);
     ++s.counters.rebuilds;
   }
-  // 4. Forces.
+  // 4. Forces, then 5-6. accelerations (into the force arrays: they are not needed after this)
+  // and the corrector, in one pass over particle ranges: a particle's correction needs only its
+  // own acceleration. The force pass runs it on its own threads once the forces are complete.
   const ContactPowers before = s.powers;
-  computeContactForces(s, dt);
-  // 5-6. Accelerations (into the force arrays: they are not needed after this) and the
-  // corrector, in one pass over particle ranges: a particle's correction needs only its own
-  // acceleration.
   const Vec3 g = s.config.gravity;
-  const double* accel = s.force.front().data();
-  const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
-  auto correct = [&](std::size_t b, std::size_t e) {
+  const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
+    const double* accel = s.force.front().data();
+    const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
     for (std::size_t i = b; i < e; ++i) {
       s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
       if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
@@ -287,7 +292,7 @@ void Simulation::step() {
     }
     return broken;
   };
-  const bool finite = overRanges(n, threads, correct) == 0 && driftedFinite;
+  const bool finite = computeContactForces(s, dt, &correct) == 0 && driftedFinite;
   if (!finite) reportBrokenState(s);
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;
@@ -548,11 +553,10 @@ MemoryUse Simulation::memoryUse() const {
   m.history = bytes(l.history) + bytes(l.wallHistory);
   const ForcePlan& x = l.plan;
   m.forcePlan = bytes(x.blockParticle) + bytes(x.blockPair) + bytes(x.blockWall) +
-                bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.crossingStart) +
-                bytes(x.incoming) + bytes(x.incomingStart);
+                bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
+                bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
-  m.scratch = bytes(c.crossingTouching) + bytes(c.crossingForce) + bytes(c.crossingMoment) +
-              bytes(c.crossingOverlap) + bytes(c.blockPowers) + bytes(c.blockReaction);
+  m.scratch = bytes(c.crossingSpring) + bytes(c.blockPowers) + bytes(c.blockReaction);
   return m;
 }
 

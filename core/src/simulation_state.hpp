@@ -30,16 +30,17 @@ struct TangentialHistory {
 ///
 /// Each thread owns a run of blocks [threadBlock[t], threadBlock[t+1]) and adds the forces of
 /// its contacts straight to its own particles. A pair whose second particle belongs to a later
-/// thread "crosses": its force is computed once more, before, by its first's thread into a slot
-/// (crossing[c], ascending pair index; thread t's are [crossingStart[t], crossingStart[t+1])),
-/// and the owner of the second particle adds the slots `incoming[incomingStart[t] ..]` (sorted by
-/// second particle, then first) before its own pairs. Every particle thus receives its contacts
-/// in one order whatever the thread count: the pairs where it is second (ascending first), those
-/// where it is first (ascending second), then its walls (ascending wall).
+/// thread "crosses" (crossing[c], ascending pair index): its first's thread computes it as any
+/// other pair, and the owner of the second particle computes it again from the same inputs (the
+/// spring as it was before the pass, ContactScratch::crossingSpring) and adds the second's share
+/// of `incoming[incomingStart[t] ..]` (sorted by second particle, then first) before its own
+/// pairs. Every particle thus receives its contacts in one order whatever the thread count: the
+/// pairs where it is second (ascending first), those where it is first (ascending second), then
+/// its walls (ascending wall).
 struct ForcePlan {
   std::vector<std::uint32_t> blockParticle, blockPair, blockWall;
   std::vector<std::uint32_t> threadBlock;
-  std::vector<std::uint32_t> crossing, crossingStart, incoming, incomingStart;
+  std::vector<std::uint32_t> crossing, incoming, incomingStart;
   int threads = 0;
   bool valid = false;  ///< built for the current lists and `threads`
 };
@@ -69,6 +70,13 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
 /// True when some pair within the list's reach may have come into contact unseen.
 bool neighbourListStale(const NeighbourList& list, const Particles& particles,
                         const std::vector<Wall>& walls, int threads = 1);
+/// The same, given the largest squared displacement of a particle since the build [m²].
+bool neighbourListStaleAfter(const NeighbourList& list, const Particles& particles,
+                             const std::vector<Wall>& walls, double maxMove2);
+/// The largest squared displacement since the build among the particles [begin, end) [m²]
+/// (0 if the list was built for another particle count: it is stale then anyway).
+double largestMove2(const NeighbourList& list, const Particles& particles, std::size_t begin,
+                    std::size_t end);
 
 /// Resizes an array whose contents are rewritten before they are read (per-contact scratch),
 /// allocating 1/8 more than asked instead of doubling, and giving memory back when the list
@@ -110,11 +118,9 @@ struct ContactPowers {
 
 /// Results of the force pass kept between its phases and its blocks (ForcePlan).
 struct ContactScratch {
-  /// Per crossing pair: whether it touches, F_ij on the first particle [N], n × F_ij [N] and
-  /// the overlap h [m] (friction only); the second particle's torque is (R_j − h/2)·n×F.
-  std::vector<std::uint8_t> crossingTouching;
-  std::vector<Vec3> crossingForce, crossingMoment;
-  std::vector<double> crossingOverlap;
+  /// Per crossing pair (friction only): its stored spring as it was before the pass, which the
+  /// second particle's part reads while the first's part advances the stored one.
+  std::vector<TangentialHistory> crossingSpring;
   std::vector<ContactPowers> blockPowers;  ///< per particle block
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };
@@ -152,7 +158,8 @@ struct SimulationState {
 
   NeighbourList neighbours;
   ContactScratch contactScratch;
-  ContactPowers powers;  ///< of the last force evaluation
+  std::vector<double> rangeMove2;  ///< per thread of the predictor: its largest move² [m²]
+  ContactPowers powers;            ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
 };
