@@ -2,6 +2,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
+
+#include "force_pass.hpp"
+
 namespace granular {
 namespace {
 
@@ -24,9 +28,10 @@ inline double* flat(std::vector<Vec3>* v) {
 /// Gear's predictor over [b, e); with x also the positions (translation), without only the
 /// velocity and its derivatives (rotation).
 template <bool kPositions>
-int gearPredict(double* __restrict x, double* __restrict v, double* __restrict d2,
-                double* __restrict d3, double* __restrict d4, const double* __restrict d5,
-                double dt, std::size_t b, std::size_t e) {
+[[gnu::always_inline]] inline int gearPredict(double* __restrict x, double* __restrict v,
+                                              double* __restrict d2, double* __restrict d3,
+                                              double* __restrict d4, const double* __restrict d5,
+                                              double dt, std::size_t b, std::size_t e) {
   const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
   for (std::size_t k = b; k < e; ++k) {
     const double a = d2[k], p3 = d3[k], p4 = d4[k], p5 = d5[k];
@@ -42,9 +47,11 @@ int gearPredict(double* __restrict x, double* __restrict v, double* __restrict d
 
 /// Gear's corrector over [b, e); nonzero if a value it wrote is not finite.
 template <bool kPositions>
-int gearCorrect(double* __restrict x, double* __restrict v, double* __restrict d2,
-                double* __restrict d3, double* __restrict d4, double* __restrict d5,
-                const double* __restrict accel, double dt, std::size_t b, std::size_t e) {
+[[gnu::always_inline]] inline int gearCorrect(double* __restrict x, double* __restrict v,
+                                              double* __restrict d2, double* __restrict d3,
+                                              double* __restrict d4, double* __restrict d5,
+                                              const double* __restrict accel, double dt,
+                                              std::size_t b, std::size_t e) {
   // r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ k!/Δt^k.
   const double sx = Gear5::kC0 * dt * dt / 2.0, sv = Gear5::kC1 * dt / 2.0,
                s3 = Gear5::kC3 * 3.0 / dt, s4 = Gear5::kC4 * 12.0 / (dt * dt),
@@ -69,8 +76,9 @@ int gearCorrect(double* __restrict x, double* __restrict v, double* __restrict d
 
 /// Verlet's drift over [b, e): x += v Δt + a Δt²/2 (as two half kicks around the move), v += a Δt.
 template <bool kPositions>
-int verletDrift(double* __restrict x, double* __restrict v, const double* __restrict a, double dt,
-                std::size_t b, std::size_t e) {
+[[gnu::always_inline]] inline int verletDrift(double* __restrict x, double* __restrict v,
+                                              const double* __restrict a, double dt, std::size_t b,
+                                              std::size_t e) {
   const double half = 0.5 * dt;
   double probe = 0.0;
 #pragma omp simd reduction(+ : probe)
@@ -87,8 +95,9 @@ int verletDrift(double* __restrict x, double* __restrict v, const double* __rest
 }
 
 /// Verlet's kick over [b, e): v += (accel - a) Δt/2, a = accel.
-int verletKick(double* __restrict v, double* __restrict a, const double* __restrict accel,
-               double dt, std::size_t b, std::size_t e) {
+[[gnu::always_inline]] inline int verletKick(double* __restrict v, double* __restrict a,
+                                             const double* __restrict accel, double dt,
+                                             std::size_t b, std::size_t e) {
   const double half = 0.5 * dt;
   double probe = 0.0;
 #pragma omp simd reduction(+ : probe)
@@ -120,25 +129,153 @@ FlatMotion FlatMotion::of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivative
   return {flat(x), flat(v), flat(d.d2), flat(d.d3), flat(d.d4), flat(d.d5)};
 }
 
-int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+namespace {
+
+// The range loops in two builds, as the force kernels (force_pass.hpp): the baseline x86-64
+// one and AVX2, chosen by forceKernelBuild(). Both give the same bits (every value is computed
+// alone, no fused multiply-add; the probe is a sum of zeros or NaN).
+
+[[gnu::always_inline]] inline int gearPredictBody(const FlatMotion& m, double dt, std::size_t b,
+                                                  std::size_t e) {
   return m.x ? gearPredict<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e)
              : gearPredict<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e);
+}
+[[gnu::always_inline]] inline int gearCorrectBody(const FlatMotion& m, const double* accel,
+                                                  double dt, std::size_t b, std::size_t e) {
+  return m.x ? gearCorrect<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
+             : gearCorrect<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
+}
+[[gnu::always_inline]] inline int verletDriftBody(const FlatMotion& m, double dt, std::size_t b,
+                                                  std::size_t e) {
+  return m.x ? verletDrift<true>(m.x, m.v, m.d2, dt, b, e)
+             : verletDrift<false>(nullptr, m.v, m.d2, dt, b, e);
+}
+[[gnu::always_inline]] inline int verletKickBody(const FlatMotion& m, const double* accel,
+                                                 double dt, std::size_t b, std::size_t e) {
+  return verletKick(m.v, m.d2, accel, dt, b, e);
+}
+
+/// a = F/m + g and dω/dt = T/I over particles [b, e), in place; the divisions in blocks that
+/// vectorise. I = 0.4 m r² as Particles::inertia computes it (the same bits).
+[[gnu::always_inline]] inline void accelerationsBody(double* __restrict force,
+                                                     double* __restrict torque,
+                                                     const double* __restrict mass,
+                                                     const double* __restrict radius, const Vec3& g,
+                                                     std::size_t b, std::size_t e) {
+  constexpr std::size_t kBlock = 128;
+  double inverseMass[kBlock], inverseInertia[kBlock];
+  for (std::size_t begin = b; begin < e; begin += kBlock) {
+    const std::size_t count = std::min(kBlock, e - begin);
+#pragma omp simd
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = begin + k;
+      inverseMass[k] = 1.0 / mass[i];
+      inverseInertia[k] = 1.0 / (0.4 * mass[i] * radius[i] * radius[i]);
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      double* f = force + 3 * (begin + k);
+      f[0] = f[0] * inverseMass[k] + g.x();
+      f[1] = f[1] * inverseMass[k] + g.y();
+      f[2] = f[2] * inverseMass[k] + g.z();
+      if (torque) {
+        double* t = torque + 3 * (begin + k);
+        t[0] *= inverseInertia[k];
+        t[1] *= inverseInertia[k];
+        t[2] *= inverseInertia[k];
+      }
+    }
+  }
+}
+
+int gearPredictBaseline(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+  return gearPredictBody(m, dt, b, e);
+}
+int gearCorrectBaseline(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                        std::size_t e) {
+  return gearCorrectBody(m, accel, dt, b, e);
+}
+int verletDriftBaseline(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+  return verletDriftBody(m, dt, b, e);
+}
+int verletKickBaseline(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                       std::size_t e) {
+  return verletKickBody(m, accel, dt, b, e);
+}
+void accelerationsBaseline(double* force, double* torque, const double* mass, const double* radius,
+                           const Vec3& g, std::size_t b, std::size_t e) {
+  accelerationsBody(force, torque, mass, radius, g, b, e);
+}
+
+#if defined(__x86_64__)
+[[gnu::target("avx2")]] int gearPredictAvx2(const FlatMotion& m, double dt, std::size_t b,
+                                            std::size_t e) {
+  return gearPredictBody(m, dt, b, e);
+}
+[[gnu::target("avx2")]] int gearCorrectAvx2(const FlatMotion& m, const double* accel, double dt,
+                                            std::size_t b, std::size_t e) {
+  return gearCorrectBody(m, accel, dt, b, e);
+}
+[[gnu::target("avx2")]] int verletDriftAvx2(const FlatMotion& m, double dt, std::size_t b,
+                                            std::size_t e) {
+  return verletDriftBody(m, dt, b, e);
+}
+[[gnu::target("avx2")]] int verletKickAvx2(const FlatMotion& m, const double* accel, double dt,
+                                           std::size_t b, std::size_t e) {
+  return verletKickBody(m, accel, dt, b, e);
+}
+[[gnu::target("avx2")]] void accelerationsAvx2(double* force, double* torque, const double* mass,
+                                               const double* radius, const Vec3& g, std::size_t b,
+                                               std::size_t e) {
+  accelerationsBody(force, torque, mass, radius, g, b, e);
+}
+constexpr bool kHaveAvx2Build = true;
+#else
+constexpr bool kHaveAvx2Build = false;
+#endif
+
+bool useAvx2() {
+  return kHaveAvx2Build && forceKernelBuild() == ForceKernelBuild::Avx2;
+}
+
+}  // namespace
+
+int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
+#if defined(__x86_64__)
+  if (useAvx2()) return gearPredictAvx2(m, dt, b, e);
+#endif
+  return gearPredictBaseline(m, dt, b, e);
 }
 
 int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                      std::size_t e) {
-  return m.x ? gearCorrect<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
-             : gearCorrect<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
+#if defined(__x86_64__)
+  if (useAvx2()) return gearCorrectAvx2(m, accel, dt, b, e);
+#endif
+  return gearCorrectBaseline(m, accel, dt, b, e);
 }
 
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return m.x ? verletDrift<true>(m.x, m.v, m.d2, dt, b, e)
-             : verletDrift<false>(nullptr, m.v, m.d2, dt, b, e);
+#if defined(__x86_64__)
+  if (useAvx2()) return verletDriftAvx2(m, dt, b, e);
+#endif
+  return verletDriftBaseline(m, dt, b, e);
 }
 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e) {
-  return verletKick(m.v, m.d2, accel, dt, b, e);
+#if defined(__x86_64__)
+  if (useAvx2()) return verletKickAvx2(m, accel, dt, b, e);
+#endif
+  return verletKickBaseline(m, accel, dt, b, e);
+}
+
+void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,
+                        const Vec3& g, std::size_t b, std::size_t e) {
+  double* t = torque ? flat(*torque) : nullptr;
+#if defined(__x86_64__)
+  if (useAvx2()) return accelerationsAvx2(flat(force), t, p.mass.data(), p.radius.data(), g, b, e);
+#endif
+  accelerationsBaseline(flat(force), t, p.mass.data(), p.radius.data(), g, b, e);
 }
 
 void Gear5::predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,

@@ -29,6 +29,10 @@ int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::s
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e);
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e);
+/// Over particles [b, e), in place: force → acceleration F/m + g and, with `torque`, torque →
+/// angular acceleration T/I (I = 0.4 m r²).
+void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,
+                        const Vec3& g, std::size_t b, std::size_t e);
 
 /// Runs `loop(begin, end)` over [0, n) split into one contiguous range per thread (0: OpenMP's
 /// default count) and ORs what the ranges return; one thread runs it in place, with no parallel

@@ -278,10 +278,7 @@ void Simulation::step() {
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
     const double* accel = s.force.front().data();
     const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
-    for (std::size_t i = b; i < e; ++i) {
-      s.force[i] = s.force[i] * (1.0 / p.mass[i]) + g;
-      if (rotating) s.torque[i] *= 1.0 / p.inertia(i);
-    }
+    accelerationsRange(s.force, rotating ? &s.torque : nullptr, p, g, b, e);
     int broken = 0;
     if (gear) {
       broken |= gearCorrectRange(move, accel, dt, 3 * b, 3 * e);
