@@ -358,7 +358,7 @@ struct CandidateSpan {
 /// computed by both: by its first's part as any other pair (which advances and stores its
 /// spring) and, with the same inputs, by its second's part, which adds only the second's share.
 /// The second's part reads the spring from a copy taken before the pass (crossingSpring), so
-/// the parts need no barrier and never touch the same memory.
+/// the parts need no barrier and never write the same memory.
 template <bool kFriction, NormalLaw kLaw>
 class PlannedPass {
  public:
