@@ -1,6 +1,6 @@
-/// The contact law's loops exist in two builds (baseline x86-64 and AVX2, core/src/force_pass.cpp)
-/// and the CPU picks one. They must give the same bits: a run on one machine reproduces on
-/// another whichever build each has.
+/// The contact law's loops and the integrators' loops exist in two builds (baseline x86-64 and
+/// AVX2, core/src/force_pass.cpp and integrators.cpp) and the CPU picks one. They must give the
+/// same bits: a run on one machine reproduces on another whichever build each has.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -49,27 +49,31 @@ TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
   if (!setForceKernelBuild(ForceKernelBuild::Avx2)) {
     GTEST_SKIP() << "this CPU has no AVX2";
   }
-  for (double friction : {0.0, 0.3}) {
-    for (NormalLaw law : {NormalLaw::Hooke, NormalLaw::Hertz}) {
-      SimulationConfig cfg;
-      cfg.material.friction = friction;
-      cfg.material.normalLaw = law;
-      cfg.timeStep = 1e-4;
-      const RunRecord base = runWith(ForceKernelBuild::Baseline, cfg);
-      const RunRecord wide = runWith(ForceKernelBuild::Avx2, cfg);
-      const std::string what =
-          "mu " + std::to_string(friction) + (law == NormalLaw::Hertz ? ", Hertz" : ", Hooke");
-      EXPECT_GT(base.contacts, 20u) << what;  // the grid has landed: contacts in use
-      EXPECT_EQ(base.hash, wide.hash) << what;
-      EXPECT_EQ(base.energy.dissipatedNormal, wide.energy.dissipatedNormal) << what;
-      EXPECT_EQ(base.energy.dissipatedFriction, wide.energy.dissipatedFriction) << what;
-      EXPECT_EQ(base.energy.elasticTangential, wide.energy.elasticTangential) << what;
-      ASSERT_EQ(base.contactForces.size(), wide.contactForces.size()) << what;
-      for (std::size_t k = 0; k < base.contactForces.size(); ++k) {
-        ASSERT_EQ(base.contactForces[k], wide.contactForces[k]) << what << ", contact " << k;
-      }
-      if (friction > 0.0) {
-        EXPECT_GT(base.energy.dissipatedFriction, 0.0) << what;  // some contacts slid
+  for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    for (double friction : {0.0, 0.3}) {
+      for (NormalLaw law : {NormalLaw::Hooke, NormalLaw::Hertz}) {
+        SimulationConfig cfg;
+        cfg.integrator = integrator;
+        cfg.material.friction = friction;
+        cfg.material.normalLaw = law;
+        cfg.timeStep = 1e-4;
+        const RunRecord base = runWith(ForceKernelBuild::Baseline, cfg);
+        const RunRecord wide = runWith(ForceKernelBuild::Avx2, cfg);
+        const std::string what = std::string(integrator == Integrator::Gear5 ? "gear5" : "verlet") +
+                                 ", mu " + std::to_string(friction) +
+                                 (law == NormalLaw::Hertz ? ", Hertz" : ", Hooke");
+        EXPECT_GT(base.contacts, 20u) << what;  // the grid has landed: contacts in use
+        EXPECT_EQ(base.hash, wide.hash) << what;
+        EXPECT_EQ(base.energy.dissipatedNormal, wide.energy.dissipatedNormal) << what;
+        EXPECT_EQ(base.energy.dissipatedFriction, wide.energy.dissipatedFriction) << what;
+        EXPECT_EQ(base.energy.elasticTangential, wide.energy.elasticTangential) << what;
+        ASSERT_EQ(base.contactForces.size(), wide.contactForces.size()) << what;
+        for (std::size_t k = 0; k < base.contactForces.size(); ++k) {
+          ASSERT_EQ(base.contactForces[k], wide.contactForces[k]) << what << ", contact " << k;
+        }
+        if (friction > 0.0) {
+          EXPECT_GT(base.energy.dissipatedFriction, 0.0) << what;  // some contacts slid
+        }
       }
     }
   }
