@@ -434,13 +434,16 @@ class PlannedPass {
       // j > i, so no j of the run is i.
       std::uint32_t current = 0;
       Vec3 forceI = Vec3::Zero(), torqueI = Vec3::Zero();
+      if (m > 0) {
+        current = list_.first[chunk.slot[0]];
+        forceI = s_.force[current];
+        if constexpr (kFriction) torqueI = s_.torque[current];
+      }
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list_.first[chunk.slot[e]], j = list_.second[chunk.slot[e]];
-        if (e == 0 || i != current) {
-          if (e > 0) {
-            s_.force[current] = forceI;
-            if constexpr (kFriction) s_.torque[current] = torqueI;
-          }
+        if (i != current) {
+          s_.force[current] = forceI;
+          if constexpr (kFriction) s_.torque[current] = torqueI;
           current = i;
           forceI = s_.force[i];
           if constexpr (kFriction) torqueI = s_.torque[i];

@@ -167,22 +167,24 @@ namespace {
   for (std::size_t begin = b; begin < e; begin += kBlock) {
     const std::size_t count = std::min(kBlock, e - begin);
 #pragma omp simd
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = begin + k;
-      inverseMass[k] = 1.0 / mass[i];
-      inverseInertia[k] = 1.0 / (0.4 * mass[i] * radius[i] * radius[i]);
-    }
+    for (std::size_t k = 0; k < count; ++k) inverseMass[k] = 1.0 / mass[begin + k];
     for (std::size_t k = 0; k < count; ++k) {
       double* f = force + 3 * (begin + k);
       f[0] = f[0] * inverseMass[k] + g.x();
       f[1] = f[1] * inverseMass[k] + g.y();
       f[2] = f[2] * inverseMass[k] + g.z();
-      if (torque) {
-        double* t = torque + 3 * (begin + k);
-        t[0] *= inverseInertia[k];
-        t[1] *= inverseInertia[k];
-        t[2] *= inverseInertia[k];
-      }
+    }
+    if (!torque) continue;  // frictionless: no rotations
+#pragma omp simd
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = begin + k;
+      inverseInertia[k] = 1.0 / (0.4 * mass[i] * radius[i] * radius[i]);
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      double* t = torque + 3 * (begin + k);
+      t[0] *= inverseInertia[k];
+      t[1] *= inverseInertia[k];
+      t[2] *= inverseInertia[k];
     }
   }
 }

@@ -230,8 +230,8 @@ double largestMove2(const NeighbourList& list, const Particles& p, std::size_t b
   return move2;
 }
 
-bool neighbourListStaleAfter(const NeighbourList& list, const Particles& p,
-                             const std::vector<Wall>& walls, double maxMove2) {
+bool neighbourListStale(const NeighbourList& list, const Particles& p,
+                        const std::vector<Wall>& walls, double maxMove2) {
   if (!list.valid || list.referencePosition.size() != p.size() ||
       list.referenceWallPoint.size() != walls.size()) {
     return true;
@@ -246,19 +246,6 @@ bool neighbourListStaleAfter(const NeighbourList& list, const Particles& p,
     if (maxMove + wallMove >= list.skin) return true;
   }
   return false;
-}
-
-bool neighbourListStale(const NeighbourList& list, const Particles& p,
-                        const std::vector<Wall>& walls, int threads) {
-  double maxMove2 = 0.0;  // a maximum is exact in any order: the reduction is deterministic
-  const std::size_t n = list.referencePosition.size() == p.size() ? p.size() : 0;
-  const int teams = threads > 0 ? threads : omp_get_max_threads();
-#pragma omp parallel for schedule(static) reduction(max \
-                                                    : maxMove2) num_threads(teams) if (teams > 1)
-  for (std::size_t i = 0; i < n; ++i) {
-    maxMove2 = std::max(maxMove2, (p.position[i] - list.referencePosition[i]).squaredNorm());
-  }
-  return neighbourListStaleAfter(list, p, walls, maxMove2);
 }
 
 }  // namespace granular

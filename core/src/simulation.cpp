@@ -266,7 +266,7 @@ void Simulation::step() {
   ++s.stepsSinceOrigin;
   ++s.steps;
   // 3. Neighbours.
-  if (s.rebuildEveryStep || neighbourListStaleAfter(s.neighbours, p, s.walls, maxMove2)) {
+  if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls, maxMove2)) {
     rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional, threads);
     ++s.counters.rebuilds;
   }

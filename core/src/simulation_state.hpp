@@ -67,12 +67,10 @@ struct NeighbourList {
 /// for any count.
 void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
                           const std::vector<Wall>& walls, bool keepHistory, int threads = 1);
-/// True when some pair within the list's reach may have come into contact unseen.
+/// True when some pair within the list's reach may have come into contact unseen, given the
+/// largest squared displacement of a particle since the build [m²] (largestMove2).
 bool neighbourListStale(const NeighbourList& list, const Particles& particles,
-                        const std::vector<Wall>& walls, int threads = 1);
-/// The same, given the largest squared displacement of a particle since the build [m²].
-bool neighbourListStaleAfter(const NeighbourList& list, const Particles& particles,
-                             const std::vector<Wall>& walls, double maxMove2);
+                        const std::vector<Wall>& walls, double maxMove2);
 /// The largest squared displacement since the build among the particles [begin, end) [m²]
 /// (0 if the list was built for another particle count: it is stale then anyway).
 double largestMove2(const NeighbourList& list, const Particles& particles, std::size_t begin,
