@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <utility>
 
 #include "force_pass.hpp"
 
@@ -189,95 +190,52 @@ namespace {
   }
 }
 
-int gearPredictBaseline(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return gearPredictBody(m, dt, b, e);
+/// Runs `kBody` compiled for the baseline or, with `inAvx2`, for AVX2 (the body is inlined into
+/// each, so the whole loop is built for that target).
+template <auto kBody, class... Args>
+auto inBaseline(Args&&... args) {
+  return kBody(std::forward<Args>(args)...);
 }
-int gearCorrectBaseline(const FlatMotion& m, const double* accel, double dt, std::size_t b,
-                        std::size_t e) {
-  return gearCorrectBody(m, accel, dt, b, e);
-}
-int verletDriftBaseline(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return verletDriftBody(m, dt, b, e);
-}
-int verletKickBaseline(const FlatMotion& m, const double* accel, double dt, std::size_t b,
-                       std::size_t e) {
-  return verletKickBody(m, accel, dt, b, e);
-}
-void accelerationsBaseline(double* force, double* torque, const double* mass, const double* radius,
-                           const Vec3& g, std::size_t b, std::size_t e) {
-  accelerationsBody(force, torque, mass, radius, g, b, e);
-}
-
 #if defined(__x86_64__)
-[[gnu::target("avx2")]] int gearPredictAvx2(const FlatMotion& m, double dt, std::size_t b,
-                                            std::size_t e) {
-  return gearPredictBody(m, dt, b, e);
+template <auto kBody, class... Args>
+[[gnu::target("avx2")]] auto inAvx2(Args&&... args) {
+  return kBody(std::forward<Args>(args)...);
 }
-[[gnu::target("avx2")]] int gearCorrectAvx2(const FlatMotion& m, const double* accel, double dt,
-                                            std::size_t b, std::size_t e) {
-  return gearCorrectBody(m, accel, dt, b, e);
-}
-[[gnu::target("avx2")]] int verletDriftAvx2(const FlatMotion& m, double dt, std::size_t b,
-                                            std::size_t e) {
-  return verletDriftBody(m, dt, b, e);
-}
-[[gnu::target("avx2")]] int verletKickAvx2(const FlatMotion& m, const double* accel, double dt,
-                                           std::size_t b, std::size_t e) {
-  return verletKickBody(m, accel, dt, b, e);
-}
-[[gnu::target("avx2")]] void accelerationsAvx2(double* force, double* torque, const double* mass,
-                                               const double* radius, const Vec3& g, std::size_t b,
-                                               std::size_t e) {
-  accelerationsBody(force, torque, mass, radius, g, b, e);
-}
-constexpr bool kHaveAvx2Build = true;
-#else
-constexpr bool kHaveAvx2Build = false;
 #endif
 
-bool useAvx2() {
-  return kHaveAvx2Build && forceKernelBuild() == ForceKernelBuild::Avx2;
+/// The build forceKernelBuild() selects.
+template <auto kBody, class... Args>
+auto dispatch(Args&&... args) {
+#if defined(__x86_64__)
+  if (forceKernelBuild() == ForceKernelBuild::Avx2) return inAvx2<kBody>(args...);
+#endif
+  return inBaseline<kBody>(args...);
 }
 
 }  // namespace
 
 int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-#if defined(__x86_64__)
-  if (useAvx2()) return gearPredictAvx2(m, dt, b, e);
-#endif
-  return gearPredictBaseline(m, dt, b, e);
+  return dispatch<gearPredictBody>(m, dt, b, e);
 }
 
 int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                      std::size_t e) {
-#if defined(__x86_64__)
-  if (useAvx2()) return gearCorrectAvx2(m, accel, dt, b, e);
-#endif
-  return gearCorrectBaseline(m, accel, dt, b, e);
+  return dispatch<gearCorrectBody>(m, accel, dt, b, e);
 }
 
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-#if defined(__x86_64__)
-  if (useAvx2()) return verletDriftAvx2(m, dt, b, e);
-#endif
-  return verletDriftBaseline(m, dt, b, e);
+  return dispatch<verletDriftBody>(m, dt, b, e);
 }
 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e) {
-#if defined(__x86_64__)
-  if (useAvx2()) return verletKickAvx2(m, accel, dt, b, e);
-#endif
-  return verletKickBaseline(m, accel, dt, b, e);
+  return dispatch<verletKickBody>(m, accel, dt, b, e);
 }
 
 void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,
                         const Vec3& g, std::size_t b, std::size_t e) {
-  double* t = torque ? flat(*torque) : nullptr;
-#if defined(__x86_64__)
-  if (useAvx2()) return accelerationsAvx2(flat(force), t, p.mass.data(), p.radius.data(), g, b, e);
-#endif
-  accelerationsBaseline(flat(force), t, p.mass.data(), p.radius.data(), g, b, e);
+  dispatch<accelerationsBody>(flat(force), torque ? flat(*torque) : nullptr, p.mass.data(),
+                              p.radius.data(), g, b, e);
 }
 
 void Gear5::predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,
