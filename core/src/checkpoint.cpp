@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "pair_springs.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
 
@@ -164,7 +165,15 @@ void fields(Io& io, SimulationState& s) {
   io(s.force), io(s.torque);
   for (Derivatives* d : {&s.translation, &s.rotation}) io(d->d2), io(d->d3), io(d->d4), io(d->d5);
   NeighbourList& n = s.neighbours;
-  io(n.first), io(n.second), io(n.history), io(n.wallParticles), io(n.wallHistory);
+  // The file holds a spring per candidate pair (zero for those holding none): the layout in
+  // memory (pair_springs.hpp) depends on the particle blocks, derived data built on loading.
+  std::vector<TangentialHistory> history;
+  if constexpr (std::is_same_v<Io, Writer>) history = perPairSprings(n);
+  io(n.first), io(n.second), io(history), io(n.wallParticles), io(n.wallHistory);
+  if constexpr (std::is_same_v<Io, Reader>) {
+    buildPairBlocks(n, p.size());
+    layOutPairSprings(n, history);
+  }
   io(n.referencePosition), io(n.referenceWallPoint), io(n.skin), io(n.valid);
   ContactPowers& w = s.powers;
   io(w.elasticNormal), io(w.elasticTangential), io(w.normalDampingPower);

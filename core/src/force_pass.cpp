@@ -15,9 +15,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "contact_law.hpp"
 #include "force_pass.hpp"
+#include "pair_springs.hpp"
 
 namespace granular {
 namespace {
@@ -188,14 +190,6 @@ void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, s
   }
 }
 
-/// loadPairs with the springs of the list's history (by the pair's slot).
-template <bool kFriction>
-void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m) {
-  loadPairs<kFriction>(p, list, c, m, [&](std::size_t e) -> const TangentialHistory& {
-    return list.history[c.slot[e]];
-  });
-}
-
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
 /// points from the particle towards the wall.
@@ -254,11 +248,9 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
-/// Writes the advanced springs of the chunk's m contacts back to their slots.
-inline void storeSprings(const ContactChunk& c, std::size_t m, TangentialHistory* springs) {
-  for (std::size_t e = 0; e < m; ++e) {
-    springs[c.slot[e]] = TangentialHistory{Vec3(c.sx[e], c.sy[e], c.sz[e]), c.stiffness[e]};
-  }
+/// The advanced spring of the chunk's entry e.
+inline TangentialHistory springOf(const ContactChunk& c, std::size_t e) {
+  return {Vec3(c.sx[e], c.sy[e], c.sz[e]), c.stiffness[e]};
 }
 
 void addPowers(ContactPowers& sum, const ContactPowers& part) {
@@ -276,40 +268,25 @@ void addPowers(ContactPowers& sum, const ContactPowers& part) {
 
 // ---- 2. The hot pass ----------------------------------------------------------------------
 
-/// A particle block closes at this many pairs or particles: the unit of the ordered power sums
-/// (fixed, so the sums do not depend on the thread count) and of the split among threads.
-constexpr std::size_t kBlockPairs = 512, kBlockParticles = 512;
-
 /// Builds list.plan (simulation_state.hpp) for n particles, `walls` walls and `threads` parts.
-void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int threads) {
+void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
   ForcePlan& x = list.plan;
-  const std::size_t pairs = list.first.size();
-  // Blocks: consecutive particles with their pairs (sorted by first).
-  x.blockParticle.assign(1, 0);
-  x.blockPair.assign(1, 0);
-  for (std::size_t i = 0, k = 0; i < n;) {
-    const std::size_t particleBegin = i, pairBegin = k;
-    while (i < n && i - particleBegin < kBlockParticles && k - pairBegin < kBlockPairs) {
-      ++i;
-      while (k < pairs && list.first[k] < i) ++k;
-    }
-    x.blockParticle.push_back(static_cast<std::uint32_t>(i));
-    x.blockPair.push_back(static_cast<std::uint32_t>(k));
-  }
-  const std::size_t blocks = x.blockParticle.size() - 1;
+  const std::vector<std::uint32_t>& blockParticle = list.blockParticle;
+  const std::vector<std::uint32_t>& blockPair = list.blockPair;
+  const std::size_t blocks = blockParticle.size() - 1;
   // Each block's wall candidates (ascending particle in each wall's list).
   x.blockWall.resize((blocks + 1) * walls);
   for (std::size_t w = 0; w < walls; ++w) {
     const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
     for (std::size_t b = 0; b <= blocks; ++b) {
       x.blockWall[b * walls + w] = static_cast<std::uint32_t>(
-          std::lower_bound(candidates.begin(), candidates.end(), x.blockParticle[b]) -
+          std::lower_bound(candidates.begin(), candidates.end(), blockParticle[b]) -
           candidates.begin());
     }
   }
   // Threads: runs of blocks of about equal work (contacts and particles).
   auto workBefore = [&](std::size_t b) {
-    std::size_t work = x.blockPair[b] + x.blockParticle[b];
+    std::size_t work = blockPair[b] + blockParticle[b];
     for (std::size_t w = 0; w < walls; ++w) work += x.blockWall[b * walls + w];
     return work;
   };
@@ -323,9 +300,8 @@ void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int t
   // Crossing pairs, by the thread of their first; then by the thread of their second.
   x.crossing.clear();
   for (int t = 0; t < threads; ++t) {
-    const std::uint32_t ownEnd = x.blockParticle[x.threadBlock[t + 1]];
-    for (std::uint32_t k = x.blockPair[x.threadBlock[t]]; k < x.blockPair[x.threadBlock[t + 1]];
-         ++k) {
+    const std::uint32_t ownEnd = blockParticle[x.threadBlock[t + 1]];
+    for (std::uint32_t k = blockPair[x.threadBlock[t]]; k < blockPair[x.threadBlock[t + 1]]; ++k) {
       if (list.second[k] >= ownEnd) x.crossing.push_back(k);
     }
   }
@@ -337,7 +313,7 @@ void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int t
                    [&](std::uint32_t a, std::uint32_t b) { return secondOf(a) < secondOf(b); });
   x.incomingStart.resize(static_cast<std::size_t>(threads) + 1);
   for (int t = 0; t <= threads; ++t) {
-    const std::uint32_t ownBegin = x.blockParticle[x.threadBlock[t]];
+    const std::uint32_t ownBegin = blockParticle[x.threadBlock[t]];
     x.incomingStart[t] = static_cast<std::uint32_t>(
         std::partition_point(x.incoming.begin(), x.incoming.end(),
                              [&](std::uint32_t q) { return secondOf(q) < ownBegin; }) -
@@ -347,6 +323,41 @@ void buildForcePlan(NeighbourList& list, std::size_t n, std::size_t walls, int t
   x.threads = threads;
   x.valid = true;
 }
+
+/// One block's springs rewritten in place by blockPairs: the stored spring of the pair holding
+/// the `read`-th one is source[read - sourceOffset]; the advanced springs of the pairs that
+/// touch now are written to the array's front, `written` of them so far.
+struct SpringCursor {
+  std::vector<TangentialHistory>* array = nullptr;
+  const TangentialHistory* source = nullptr;
+  std::size_t sourceOffset = 0, read = 0, written = 0, stored = 0;
+  bool setAside = false;
+
+  void start(std::vector<TangentialHistory>& springs) {
+    array = &springs;
+    source = springs.data();
+    stored = springs.size();
+  }
+  /// Room for m new springs after those written, once the springs up to `read` are loaded.
+  TangentialHistory* write(std::size_t m, std::vector<TangentialHistory>& aside) {
+    if (!setAside && written + m > read && read < stored) {
+      aside.assign(array->begin() + static_cast<std::ptrdiff_t>(read),
+                   array->begin() + static_cast<std::ptrdiff_t>(stored));
+      source = aside.data();
+      sourceOffset = read;
+      setAside = true;
+    }
+    if (written + m > array->size()) {
+      if (written + m > array->capacity()) array->reserve((written + m) * 5 / 4 + 4);
+      array->resize(written + m);
+      if (!setAside) source = array->data();  // what is left to read kept its place
+    }
+    TangentialHistory* out = array->data() + written;
+    written += m;
+    return out;
+  }
+  void finish() { array->resize(written); }
+};
 
 /// Wall candidates [begin, end) of one wall, examined for the chunk being filled.
 struct CandidateSpan {
@@ -362,7 +373,8 @@ struct CandidateSpan {
 template <bool kFriction, NormalLaw kLaw>
 class PlannedPass {
  public:
-  PlannedPass(SimulationState& s, double dt)
+  /// `before`: this thread's array for a block's springs as they were before the pass.
+  PlannedPass(SimulationState& s, double dt, std::vector<TangentialHistory>* before)
       : s_(s),
         p_(s.particles),
         list_(s.neighbours),
@@ -370,11 +382,12 @@ class PlannedPass {
         out_(s.contactScratch),
         constants_(constantsOf(s.config, dt)),
         kern_(kernels()),
-        walls_(s.walls.size()) {}
+        walls_(s.walls.size()),
+        before_(before) {}
 
   void ownedPhase(std::size_t t, ContactChunk& chunk) {
-    const std::size_t ownBegin = plan_.blockParticle[plan_.threadBlock[t]];
-    ownEnd_ = plan_.blockParticle[plan_.threadBlock[t + 1]];
+    const std::size_t ownBegin = list_.blockParticle[plan_.threadBlock[t]];
+    ownEnd_ = list_.blockParticle[plan_.threadBlock[t + 1]];
     std::fill(s_.force.begin() + ownBegin, s_.force.begin() + ownEnd_, Vec3::Zero());
     if constexpr (kFriction) {
       std::fill(s_.torque.begin() + ownBegin, s_.torque.begin() + ownEnd_, Vec3::Zero());
@@ -419,11 +432,45 @@ class PlannedPass {
   }
 
   void blockPairs(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
-    const std::size_t end = plan_.blockPair[b + 1];
-    for (std::size_t begin = plan_.blockPair[b]; begin < end; begin += kChunk) {
+    const std::size_t end = list_.blockPair[b + 1];
+    // Friction: the block's springs (in pair order, of the pairs holding one) are read and
+    // rewritten in place: the springs of a chunk's touching pairs go to the array's front once
+    // the chunk has read its own. Where they would overwrite springs not yet read (more pairs
+    // touch than held springs so far), those are first set aside in *before_.
+    SpringCursor springs;
+    std::uint64_t* heldWord = nullptr;  // the chunk's bits (PairSprings)
+    if constexpr (kFriction) {
+      static_assert(kChunk == 64, "a chunk's pairs are the bits of one word");
+      springs.start(list_.springs.block[b]);
+      heldWord = list_.springs.held.data() + list_.blockWord[b];
+    }
+    for (std::size_t begin = list_.blockPair[b]; begin < end; begin += kChunk) {
       const std::size_t count = std::min(kChunk, end - begin);
-      const std::size_t m = pickTouchingPairs(p_, list_, begin, count, chunk);
-      loadPairs<kFriction>(p_, list_, chunk, m);
+      std::size_t m = 0;
+      if constexpr (kFriction) {
+        const TangentialHistory* spring[kChunk];  // each touching pair's stored spring
+        // Locals, not the cursor's fields, which the chunk's stores might alias for the compiler.
+        const std::uint64_t heldBefore = *heldWord;
+        std::uint64_t heldNow = 0;  // a contact that opened forgets its spring
+        const TangentialHistory* next = springs.source + (springs.read - springs.sourceOffset);
+        std::size_t read = 0;
+        for (std::size_t k = begin; k < begin + count; ++k) {
+          const std::size_t bit = k - begin, holds = (heldBefore >> bit) & 1;
+          spring[m] = holds ? next + read : &kNoSpring;
+          read += holds;
+          const std::size_t touching = pickPair(p_, list_, static_cast<std::uint32_t>(k), chunk, m);
+          heldNow |= std::uint64_t{touching} << bit;
+          m += touching;
+        }
+        *heldWord++ = heldNow;
+        springs.read += read;
+        loadPairs<kFriction>(p_, list_, chunk, m,
+                             [&](std::size_t e) -> const TangentialHistory& { return *spring[e]; });
+      } else {
+        m = pickTouchingPairs(p_, list_, begin, count, chunk);
+        loadPairs<kFriction>(p_, list_, chunk, m,
+                             [](std::size_t) -> const TangentialHistory& { return kNoSpring; });
+      }
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true);
       addChunkPowers<kFriction>(chunk, m, powers);
@@ -463,11 +510,12 @@ class PlannedPass {
         s_.force[current] = forceI;
         if constexpr (kFriction) s_.torque[current] = torqueI;
       }
-      if constexpr (kFriction) {  // a contact that opened forgets its spring
-        std::fill_n(list_.history.begin() + begin, count, TangentialHistory{});
-        storeSprings(chunk, m, list_.history.data());
+      if constexpr (kFriction) {
+        TangentialHistory* out = springs.write(m, *before_);
+        for (std::size_t e = 0; e < m; ++e) out[e] = springOf(chunk, e);
       }
     }
+    if constexpr (kFriction) springs.finish();
   }
 
   /// The block's wall contacts, wall by wall, in chunks that may hold several walls.
@@ -513,8 +561,7 @@ class PlannedPass {
                   list_.wallHistory[span.wall].begin() + span.end, TangentialHistory{});
       }
       for (std::size_t e = 0; e < m; ++e) {
-        list_.wallHistory[chunk.wall[e]][chunk.slot[e]] =
-            TangentialHistory{Vec3(chunk.sx[e], chunk.sy[e], chunk.sz[e]), chunk.stiffness[e]};
+        list_.wallHistory[chunk.wall[e]][chunk.slot[e]] = springOf(chunk, e);
       }
     }
     spans_.clear();
@@ -528,6 +575,7 @@ class PlannedPass {
   const ContactConstants constants_;
   const ChunkKernels kern_;
   const std::size_t walls_;
+  std::vector<TangentialHistory>* const before_;
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
@@ -542,25 +590,25 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   NeighbourList& list = s.neighbours;
   const std::size_t n = s.particles.size(), walls = s.walls.size();
   if (!list.plan.valid || list.plan.threads != threads) {
-    buildForcePlan(list, n, walls, threads);
+    buildForcePlan(list, walls, threads);
   }
   const ForcePlan& plan = list.plan;
-  const std::size_t blocks = plan.blockParticle.size() - 1, crossings = plan.crossing.size();
+  const std::size_t blocks = list.blockParticle.size() - 1, crossings = plan.crossing.size();
   ContactScratch& out = s.contactScratch;
   if constexpr (kFriction) {  // the straddling pairs' springs as they are before the pass
     resizeScratch(out.crossingSpring, crossings);
-    for (std::size_t q = 0; q < crossings; ++q) {
-      out.crossingSpring[q] = list.history[plan.crossing[q]];
-    }
+    SpringReader reader(list);  // crossing pairs come in ascending pair order
+    for (std::size_t q = 0; q < crossings; ++q) out.crossingSpring[q] = reader.at(plan.crossing[q]);
   }
   out.blockPowers.resize(blocks);
   out.blockReaction.resize(blocks * walls);
   resizeScratch(s.force, n);
   if constexpr (kFriction) resizeScratch(s.torque, n);
 
+  out.springsBefore.resize(static_cast<std::size_t>(threads));
   int broken = 0;
   if (threads == 1) {
-    PlannedPass<kFriction, kLaw> pass(s, dt);
+    PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsBefore[0]);
     ContactChunk chunk;
     pass.ownedPhase(0, chunk);
     if (after) broken = (*after)(0, n);
@@ -570,15 +618,15 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
       // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
       const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
       const std::size_t parts = static_cast<std::size_t>(threads);
-      PlannedPass<kFriction, kLaw> pass(s, dt);
+      PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsBefore[omp_get_thread_num()]);
       ContactChunk chunk;  // per thread, on its stack
       for (std::size_t t = omp_get_thread_num(); t < parts; t += team) pass.ownedPhase(t, chunk);
       if (after) {
         // Every part has read every position it needs: each part's particles may now move.
 #pragma omp barrier
         for (std::size_t t = omp_get_thread_num(); t < parts; t += team) {
-          broken |= (*after)(plan.blockParticle[plan.threadBlock[t]],
-                             plan.blockParticle[plan.threadBlock[t + 1]]);
+          broken |= (*after)(list.blockParticle[plan.threadBlock[t]],
+                             list.blockParticle[plan.threadBlock[t + 1]]);
         }
       }
     }
@@ -607,10 +655,14 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   const ChunkKernels kern = kernels();
   ContactChunk chunk;
   force.assign(p.size(), Vec3::Zero());
+  std::optional<SpringReader> springs;  // pairs come in ascending order
+  if constexpr (kFriction) springs.emplace(list);
   for (std::size_t begin = 0; begin < list.first.size(); begin += kChunk) {
     const std::size_t count = std::min(kChunk, list.first.size() - begin);
     const std::size_t m = pickTouchingPairs(p, list, begin, count, chunk);
-    loadPairs<kFriction>(p, list, chunk, m);
+    loadPairs<kFriction>(p, list, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+      return springs->at(chunk.slot[e]);
+    });
     kern.geometry(chunk, m, kFriction);
     kern.law(c, chunk, m, kFriction, kLaw, false);
     for (std::size_t e = 0; e < m; ++e) {

@@ -1,5 +1,5 @@
 /// Neighbour (Verlet) lists on a uniform cell grid, with the contact history carried across
-/// rebuilds. Sections: cell grid, particle pairs, wall candidates, history merge, staleness.
+/// rebuilds. Sections: cell grid, history merge, particle blocks, rebuild, staleness.
 #include <omp.h>
 
 #include <algorithm>
@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "pair_springs.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -79,24 +80,6 @@ CellGrid binParticles(const Particles& p, double reach) {
 
 // ---- History merge ------------------------------------------------------------------------
 
-/// Copies the history of pairs present in both (sorted) lists from old to new.
-void carryPairHistory(const std::vector<std::uint32_t>& oldFirst,
-                      const std::vector<std::uint32_t>& oldSecond,
-                      const std::vector<TangentialHistory>& oldHistory,
-                      const std::vector<std::uint32_t>& newFirst,
-                      const std::vector<std::uint32_t>& newSecond,
-                      std::vector<TangentialHistory>& newHistory) {
-  newHistory.assign(newFirst.size(), TangentialHistory{});
-  std::size_t a = 0;
-  for (std::size_t b = 0; b < newFirst.size() && a < oldFirst.size(); ++b) {
-    const std::uint64_t key = (std::uint64_t{newFirst[b]} << 32) | newSecond[b];
-    while (a < oldFirst.size() && ((std::uint64_t{oldFirst[a]} << 32) | oldSecond[a]) < key) ++a;
-    if (a < oldFirst.size() && oldFirst[a] == newFirst[b] && oldSecond[a] == newSecond[b]) {
-      newHistory[b] = oldHistory[a];
-    }
-  }
-}
-
 void carryWallHistory(const std::vector<std::uint32_t>& oldList,
                       const std::vector<TangentialHistory>& oldHistory,
                       const std::vector<std::uint32_t>& newList,
@@ -109,7 +92,38 @@ void carryWallHistory(const std::vector<std::uint32_t>& oldList,
   }
 }
 
+// ---- Particle blocks ----------------------------------------------------------------------
+
+/// A particle block closes at this many pairs or particles: the unit of the force pass's
+/// ordered power sums (fixed, so the sums do not depend on the thread count), of its split among
+/// threads and of the springs' storage.
+constexpr std::size_t kBlockPairs = 512, kBlockParticles = 512;
+
+/// Particle blocks for n particles and the pairs' first particles (ascending).
+void pairBlocks(const std::vector<std::uint32_t>& first, std::size_t n,
+                std::vector<std::uint32_t>& blockParticle, std::vector<std::uint32_t>& blockPair,
+                std::vector<std::uint32_t>& blockWord) {
+  const std::size_t pairs = first.size();
+  blockParticle.assign(1, 0);
+  blockPair.assign(1, 0);
+  blockWord.assign(1, 0);
+  for (std::size_t i = 0, k = 0; i < n;) {
+    const std::size_t particleBegin = i, pairBegin = k;
+    while (i < n && i - particleBegin < kBlockParticles && k - pairBegin < kBlockPairs) {
+      ++i;
+      while (k < pairs && first[k] < i) ++k;
+    }
+    blockParticle.push_back(static_cast<std::uint32_t>(i));
+    blockPair.push_back(static_cast<std::uint32_t>(k));
+    blockWord.push_back(static_cast<std::uint32_t>(blockWord.back() + (k - pairBegin + 63) / 64));
+  }
+}
+
 }  // namespace
+
+void buildPairBlocks(NeighbourList& list, std::size_t n) {
+  pairBlocks(list.first, n, list.blockParticle, list.blockPair, list.blockWord);
+}
 
 // ---- Rebuild ------------------------------------------------------------------------------
 
@@ -192,10 +206,10 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
     }
   }
 
+  std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
+  pairBlocks(first, n, blockParticle, blockPair, blockWord);
   if (keepHistory) {
-    std::vector<TangentialHistory> history;
-    carryPairHistory(list.first, list.second, list.history, first, second, history);
-    list.history = std::move(history);
+    list.springs = carryPairSprings(list, first, second, blockPair, blockWord);
     list.wallHistory.resize(walls.size());
     std::vector<std::vector<TangentialHistory>> wallHistory(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) {
@@ -208,8 +222,12 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
     }
     list.wallHistory = std::move(wallHistory);
   }
+  if (!keepHistory) list.springs = PairSprings{};
   list.first = std::move(first);
   list.second = std::move(second);
+  list.blockParticle = std::move(blockParticle);
+  list.blockPair = std::move(blockPair);
+  list.blockWord = std::move(blockWord);
   list.wallParticles = std::move(wallParticles);
   list.referencePosition = p.position;
   list.referenceWallPoint.resize(walls.size());

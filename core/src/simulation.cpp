@@ -418,7 +418,7 @@ void Simulation::setMaterial(const Material& material) {
     // A list built for the other path holds no springs (or ones no longer wanted): start anew.
     NeighbourList& list = s.neighbours;
     for (std::vector<std::uint32_t>* v : {&list.first, &list.second}) v->clear();
-    list.history.clear();
+    list.springs = PairSprings{};
     list.wallParticles.clear();
     list.wallHistory.clear();
     rebuildNeighbourList(list, s.particles, s.walls, s.frictional, s.config.threads);
@@ -547,13 +547,14 @@ MemoryUse Simulation::memoryUse() const {
   const NeighbourList& l = s.neighbours;
   m.neighbours = bytes(l.first) + bytes(l.second) + bytes(l.wallParticles) +
                  bytes(l.referencePosition) + bytes(l.referenceWallPoint);
-  m.history = bytes(l.history) + bytes(l.wallHistory);
+  m.history = bytes(l.springs.held) + bytes(l.springs.block) + bytes(l.wallHistory);
   const ForcePlan& x = l.plan;
-  m.forcePlan = bytes(x.blockParticle) + bytes(x.blockPair) + bytes(x.blockWall) +
+  m.forcePlan = bytes(l.blockParticle) + bytes(l.blockPair) + bytes(x.blockWall) +
                 bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
                 bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
-  m.scratch = bytes(c.crossingSpring) + bytes(c.blockPowers) + bytes(c.blockReaction);
+  m.scratch = bytes(c.crossingSpring) + bytes(c.springsBefore) + bytes(c.blockPowers) +
+              bytes(c.blockReaction);
   return m;
 }
 

@@ -20,10 +20,9 @@ struct TangentialHistory {
 };
 
 /// How the force pass splits its work among threads (force_pass.cpp), derived from the lists
-/// and rebuilt with them (not checkpointed).
+/// and the thread count, rebuilt with them (not checkpointed).
 ///
-/// Particle blocks are runs of consecutive particles [blockParticle[b], blockParticle[b+1]) with
-/// their pairs (the list is sorted by first) [blockPair[b], blockPair[b+1]) and, per wall w,
+/// The pass works on the list's particle blocks (NeighbourList::blockParticle) and, per wall w,
 /// their wall candidates [blockWall[b·W + w], blockWall[(b+1)·W + w]). The blocks depend on the
 /// lists only, never on the thread count: each block sums its contact powers in contact order,
 /// and the blocks are summed in order, so the sums are the same bits for any thread count.
@@ -38,20 +37,42 @@ struct TangentialHistory {
 /// pairs where it is second (ascending first), those where it is first (ascending second), then
 /// its walls (ascending wall).
 struct ForcePlan {
-  std::vector<std::uint32_t> blockParticle, blockPair, blockWall;
+  std::vector<std::uint32_t> blockWall;
   std::vector<std::uint32_t> threadBlock;
   std::vector<std::uint32_t> crossing, incoming, incomingStart;
   int threads = 0;
   bool valid = false;  ///< built for the current lists and `threads`
 };
 
+/// Tangential springs of the candidate pairs that touched at the last force pass, and of no
+/// others. A candidate list holds about 5 pairs a particle of which 2-3 touch in a dense bed: a
+/// spring per candidate (32 B) was the largest array of a frictional bed, and a stretch that is
+/// not held is simply zero. The springs of a particle block (NeighbourList::blockParticle) lie
+/// in their own array in ascending pair order, so one thread owns each array in the force pass
+/// and it may grow there; a pair's spring is found by counting the holding pairs before it in
+/// its block (pair_springs.hpp).
+///
+/// Which pairs hold one is a bit per pair, in 64-bit words of 64 consecutive pairs counted from
+/// each block's first pair: block b's pair blockPair[b] + 64 w + i is bit i of word
+/// blockWord[b] + w. A word is one chunk of the force pass, whose thread owns it.
+struct PairSprings {
+  std::vector<std::uint64_t> held;
+  std::vector<std::vector<TangentialHistory>> block;  ///< per particle block, ascending pair
+};
+
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
 /// than the skin allows. Pairs are sorted by (first, second) so that the history of a pair can be
 /// carried to the rebuilt list by a merge, without hashing.
+///
+/// Particle blocks are runs of consecutive particles [blockParticle[b], blockParticle[b+1]) with
+/// their pairs [blockPair[b], blockPair[b+1]) (buildPairBlocks, built with the list): the unit of
+/// the force pass's work and of its ordered sums, and of the springs' storage (blockWord: the
+/// first word of the block's bits in PairSprings::held).
 struct NeighbourList {
-  std::vector<std::uint32_t> first;        ///< i of each candidate pair (i < j)
-  std::vector<std::uint32_t> second;       ///< j of each candidate pair
-  std::vector<TangentialHistory> history;  ///< per pair; empty on the frictionless path
+  std::vector<std::uint32_t> first;   ///< i of each candidate pair (i < j)
+  std::vector<std::uint32_t> second;  ///< j of each candidate pair
+  std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
+  PairSprings springs;  ///< empty on the frictionless path
   /// Per wall: candidate particles (sorted) and their tangential history.
   std::vector<std::vector<std::uint32_t>> wallParticles;
   std::vector<std::vector<TangentialHistory>> wallHistory;
@@ -62,6 +83,8 @@ struct NeighbourList {
   ForcePlan plan;  ///< derived from the lists (not checkpointed), built by the force pass
 };
 
+/// Splits n particles and the list's pairs into particle blocks (NeighbourList::blockParticle).
+void buildPairBlocks(NeighbourList& list, std::size_t n);
 /// Builds the list for the current positions, carrying tangential history of surviving pairs.
 /// The candidate search runs on `threads` threads (0: OpenMP's default); the list is the same
 /// for any count.
@@ -119,6 +142,9 @@ struct ContactScratch {
   /// Per crossing pair (friction only): its stored spring as it was before the pass, which the
   /// second particle's part reads while the first's part advances the stored one.
   std::vector<TangentialHistory> crossingSpring;
+  /// Per thread of the pass (friction only): the springs of the block it works on, as they
+  /// were before the pass, while the block's own array receives the advanced ones.
+  std::vector<std::vector<TangentialHistory>> springsBefore;
   std::vector<ContactPowers> blockPowers;  ///< per particle block
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };

@@ -2,6 +2,7 @@
 #include "state_checks.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -136,7 +137,6 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
   const std::size_t n = s.particles.size();
   const std::size_t pairs = list.first.size();
   c.sized(list.second, pairs, "pair list (second)");
-  c.sized(list.history, s.frictional ? pairs : 0, "pair history");
   for (std::size_t k = 0; k < pairs; ++k) {
     c.require(list.first[k] < list.second[k] && list.second[k] < n,
               "pair " + std::to_string(k) + " indexes particles out of range or out of order");
@@ -145,7 +145,24 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
                   (list.first[k - 1] == list.first[k] && list.second[k - 1] < list.second[k]),
               "pair list is not sorted");
   }
-  checkHistory(c, list.history);
+  // The particle blocks (derived from the list on loading) and the springs laid out in them.
+  const std::size_t blocks = list.blockParticle.size() - 1;
+  c.require(!list.blockParticle.empty() && list.blockPair.size() == blocks + 1 &&
+                list.blockWord.size() == blocks + 1 && list.blockParticle.back() == n &&
+                list.blockPair.back() == pairs,
+            "particle blocks do not cover the particles and pairs");
+  c.sized(list.springs.held, s.frictional ? list.blockWord.back() : 0, "pair history (words)");
+  if (s.frictional) {
+    c.sized(list.springs.block, blocks, "pair history blocks");
+    for (std::size_t b = 0; b < blocks; ++b) {
+      std::size_t held = 0;
+      for (std::size_t w = list.blockWord[b]; w < list.blockWord[b + 1]; ++w) {
+        held += static_cast<std::size_t>(std::popcount(list.springs.held[w]));
+      }
+      c.sized(list.springs.block[b], held, "a block of pair history");
+      checkHistory(c, list.springs.block[b]);
+    }
+  }
   const std::size_t walls = s.walls.size();
   c.sized(list.wallParticles, walls, "wall candidate lists");
   c.sized(list.wallHistory, s.frictional ? walls : 0, "wall histories");

@@ -1,0 +1,112 @@
+/// Laying out and carrying the touching pairs' springs (pair_springs.hpp).
+#include "pair_springs.hpp"
+
+namespace granular {
+namespace {
+
+bool holdsSomething(const TangentialHistory& s) {
+  return s.stretch.x() != 0.0 || s.stretch.y() != 0.0 || s.stretch.z() != 0.0 || s.stiffness != 0.0;
+}
+
+/// Copies one block's springs into its array, with room for a few new contacts.
+void fillBlock(std::vector<TangentialHistory>& block, const std::vector<TangentialHistory>& found) {
+  block.reserve(found.size() + found.size() / 16 + 2);
+  block.assign(found.begin(), found.end());
+}
+
+std::uint64_t keyOf(const std::vector<std::uint32_t>& first,
+                    const std::vector<std::uint32_t>& second, std::size_t k) {
+  return (std::uint64_t{first[k]} << 32) | second[k];
+}
+
+/// Whether pair k of block b (k in the block) holds a spring.
+bool holds(const std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>& blockPair,
+           const std::vector<std::uint32_t>& blockWord, std::size_t b, std::size_t k) {
+  const std::size_t offset = k - blockPair[b];
+  return (held[blockWord[b] + offset / 64] >> (offset % 64)) & 1;
+}
+
+void setHeld(std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>& blockPair,
+             const std::vector<std::uint32_t>& blockWord, std::size_t b, std::size_t k) {
+  const std::size_t offset = k - blockPair[b];
+  held[blockWord[b] + offset / 64] |= std::uint64_t{1} << (offset % 64);
+}
+
+}  // namespace
+
+std::vector<TangentialHistory> perPairSprings(const NeighbourList& list) {
+  if (list.springs.held.empty() || list.springs.block.empty()) return {};
+  std::vector<TangentialHistory> perPair(list.first.size());
+  SpringReader reader(list);
+  for (std::size_t k = 0; k < perPair.size(); ++k) perPair[k] = reader.at(k);
+  return perPair;
+}
+
+void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair) {
+  PairSprings& springs = list.springs;
+  springs = PairSprings{};
+  if (perPair.size() != list.first.size()) {
+    springs.held.assign(perPair.size(), 0);
+    return;
+  }
+  const std::size_t blocks = list.blockPair.size() - 1;
+  springs.held.assign(list.blockWord.back(), 0);
+  springs.block.resize(blocks);
+  std::vector<TangentialHistory> found;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    found.clear();
+    for (std::size_t k = list.blockPair[b]; k < list.blockPair[b + 1]; ++k) {
+      if (!holdsSomething(perPair[k])) continue;
+      setHeld(springs.held, list.blockPair, list.blockWord, b, k);
+      found.push_back(perPair[k]);
+    }
+    fillBlock(springs.block[b], found);
+  }
+}
+
+PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& first,
+                             const std::vector<std::uint32_t>& second,
+                             const std::vector<std::uint32_t>& blockPair,
+                             const std::vector<std::uint32_t>& blockWord) {
+  PairSprings out;
+  const std::size_t blocks = blockPair.size() - 1;
+  out.held.assign(blockWord.back(), 0);
+  out.block.resize(blocks);
+  PairSprings& from = old.springs;
+  const bool oldHolds = !from.block.empty() && !old.blockWord.empty() &&
+                        from.held.size() == old.blockWord.back() &&
+                        old.blockPair.back() == old.first.size();
+  const std::size_t oldPairs = oldHolds ? old.first.size() : 0;
+  // The old list's walk: pair a, its block, and the index of a's spring in that block.
+  std::size_t a = 0, oldBlock = 0, index = 0;
+  auto skipPassedBlocks = [&] {
+    while (oldBlock + 1 < old.blockPair.size() && a >= old.blockPair[oldBlock + 1]) {
+      std::vector<TangentialHistory>().swap(from.block[oldBlock]);  // passed: free it
+      ++oldBlock;
+      index = 0;
+    }
+  };
+  auto oldHeld = [&] { return holds(from.held, old.blockPair, old.blockWord, oldBlock, a); };
+  if (oldPairs > 0) skipPassedBlocks();
+  std::vector<TangentialHistory> found;
+  for (std::size_t b = 0; b < blocks; ++b) {
+    found.clear();
+    for (std::size_t k = blockPair[b]; k < blockPair[b + 1]; ++k) {
+      const std::uint64_t key = keyOf(first, second, k);
+      while (a < oldPairs && keyOf(old.first, old.second, a) < key) {
+        index += oldHeld() ? 1 : 0;
+        ++a;
+        skipPassedBlocks();
+      }
+      if (a < oldPairs && keyOf(old.first, old.second, a) == key && oldHeld()) {
+        setHeld(out.held, blockPair, blockWord, b, k);
+        found.push_back(from.block[oldBlock][index]);
+      }
+    }
+    fillBlock(out.block[b], found);
+  }
+  from = PairSprings{};
+  return out;
+}
+
+}  // namespace granular

@@ -1,0 +1,69 @@
+#pragma once
+/// Finding, laying out and carrying the springs of the touching pairs (PairSprings in
+/// simulation_state.hpp): springs are stored only for pairs that touched at the last force
+/// pass, each particle block's in its own array in ascending pair order, and a bit per pair
+/// says which pairs hold one.
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// The spring of a pair that holds none: no stretch, no stiffness.
+inline const TangentialHistory kNoSpring{};
+
+/// The bits below bit `bit` of a word.
+inline std::uint64_t bitsBelow(std::uint64_t word, std::size_t bit) {
+  return word & ((std::uint64_t{1} << bit) - 1);
+}
+
+/// Pair k's spring for k ascending over the calls (kNoSpring if it holds none): walks the
+/// blocks, counting the holding pairs before k in k's block. The list must hold springs
+/// (friction) laid out for its blocks.
+class SpringReader {
+ public:
+  explicit SpringReader(const NeighbourList& list) : list_(list) {}
+  const TangentialHistory& at(std::size_t k) {
+    const std::vector<std::uint32_t>& blockPair = list_.blockPair;
+    if (k >= blockPair[block_ + 1]) {
+      do ++block_;
+      while (k >= blockPair[block_ + 1]);
+      words_ = 0;
+      before_ = 0;
+    }
+    const std::size_t offset = k - blockPair[block_], w = offset / 64, bit = offset % 64;
+    const std::uint64_t* held = list_.springs.held.data() + list_.blockWord[block_];
+    for (; words_ < w; ++words_) before_ += static_cast<std::size_t>(std::popcount(held[words_]));
+    if (((held[w] >> bit) & 1) == 0) return kNoSpring;
+    return list_.springs
+        .block[block_][before_ + static_cast<std::size_t>(std::popcount(bitsBelow(held[w], bit)))];
+  }
+
+ private:
+  const NeighbourList& list_;
+  std::size_t block_ = 0;   ///< the block of the last pair asked for
+  std::size_t words_ = 0;   ///< words of that block counted
+  std::size_t before_ = 0;  ///< holding pairs in them
+};
+
+/// One spring per candidate pair (kNoSpring for those holding none): the checkpoint's layout.
+/// Empty if the list holds no springs.
+std::vector<TangentialHistory> perPairSprings(const NeighbourList& list);
+
+/// Lays out one spring per candidate pair (as perPairSprings gives them) into list.springs for
+/// the list's blocks; a pair holds its spring if any of its numbers is nonzero. If the count
+/// does not match the list's pairs (none at all: the frictionless path), `held` gets one word
+/// per given spring and no block (the state checks report a mismatch on a frictional path).
+void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair);
+
+/// The springs of the pairs of `old` that are also in the new list (first, second, sorted, with
+/// its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays as
+/// it passes them, so that the old and the new springs are not held whole at once.
+PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& first,
+                             const std::vector<std::uint32_t>& second,
+                             const std::vector<std::uint32_t>& blockPair,
+                             const std::vector<std::uint32_t>& blockWord);
+
+}  // namespace granular
