@@ -348,7 +348,9 @@ struct SpringCursor {
       setAside = true;
     }
     if (written + m > array->size()) {
-      if (written + m > array->capacity()) array->reserve((written + m) * 5 / 4 + 4);
+      // An eighth more, not double: the springs are the largest array of a frictional bed, and
+      // between two rebuilds (which lay every array out afresh) a block gains a few contacts.
+      if (written + m > array->capacity()) array->reserve((written + m) * 9 / 8 + 4);
       array->resize(written + m);
       if (!setAside) source = array->data();  // what is left to read kept its place
     }
