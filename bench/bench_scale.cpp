@@ -13,9 +13,11 @@
 ///
 /// Memory: VmHWM (the process's peak resident set, from /proc/self/status, reset after the
 /// settling run) minus the resident set before the packing was built, divided by n: everything
-/// the timed run needed per particle, transient buffers of neighbour-list rebuilds included. One
-/// thread needs less than two: it adds each contact to its particles directly, where two threads
-/// keep every contact's force in its own slot and gather them (core/src/force_pass.cpp).
+/// the timed run needed per particle, transient buffers of neighbour-list rebuilds included.
+/// Arrays of 1 MiB and more are mapped on their own (mallopt in main), so that an array freed
+/// by a rebuild leaves the resident set at once instead of staying in glibc's heap. Two
+/// threads need a little more than one: the pairs straddling them keep a copy of their spring
+/// for the second thread, and the force pass's plan lists them (core/src/force_pass.cpp).
 ///
 /// Usage: granular_bench_scale [--n 1000,10000,...] [--settle S] [--steps T] [--layers L]
 ///                             [--friction MU] [--integrator gear5|verlet]
@@ -259,6 +261,11 @@ void runCase(long n, const Options& o) {
 
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
+  // Arrays of a megabyte and more get pages of their own, returned when freed: glibc would
+  // otherwise raise its threshold to the size of the first such array freed and keep later
+  // ones in its heap, so the resident set would hold every array a rebuild ever freed, and
+  // the peak would measure the allocator's retention rather than what the run needs.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
   std::printf(
       "| n | threads | integrator | μ | ms / step | particle-steps / s | ns / particle-step | "
       "contacts / particle | rebuilds | peak bytes / particle | settle (untimed) |\n"
