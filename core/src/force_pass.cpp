@@ -375,8 +375,8 @@ struct CandidateSpan {
 template <bool kFriction, NormalLaw kLaw>
 class PlannedPass {
  public:
-  /// `before`: this thread's array for a block's springs as they were before the pass.
-  PlannedPass(SimulationState& s, double dt, std::vector<TangentialHistory>* before)
+  /// `aside`: this thread's array for the springs of a block set aside (SpringCursor).
+  PlannedPass(SimulationState& s, double dt, std::vector<TangentialHistory>* aside)
       : s_(s),
         p_(s.particles),
         list_(s.neighbours),
@@ -385,7 +385,7 @@ class PlannedPass {
         constants_(constantsOf(s.config, dt)),
         kern_(kernels()),
         walls_(s.walls.size()),
-        before_(before) {}
+        aside_(aside) {}
 
   void ownedPhase(std::size_t t, ContactChunk& chunk) {
     const std::size_t ownBegin = list_.blockParticle[plan_.threadBlock[t]];
@@ -438,7 +438,7 @@ class PlannedPass {
     // Friction: the block's springs (in pair order, of the pairs holding one) are read and
     // rewritten in place: the springs of a chunk's touching pairs go to the array's front once
     // the chunk has read its own. Where they would overwrite springs not yet read (more pairs
-    // touch than held springs so far), those are first set aside in *before_.
+    // touch than held springs so far), those are first set aside in *aside_.
     SpringCursor springs;
     std::uint64_t* heldWord = nullptr;  // the chunk's bits (PairSprings)
     if constexpr (kFriction) {
@@ -513,7 +513,7 @@ class PlannedPass {
         if constexpr (kFriction) s_.torque[current] = torqueI;
       }
       if constexpr (kFriction) {
-        TangentialHistory* out = springs.write(m, *before_);
+        TangentialHistory* out = springs.write(m, *aside_);
         for (std::size_t e = 0; e < m; ++e) out[e] = springOf(chunk, e);
       }
     }
@@ -577,7 +577,7 @@ class PlannedPass {
   const ContactConstants constants_;
   const ChunkKernels kern_;
   const std::size_t walls_;
-  std::vector<TangentialHistory>* const before_;
+  std::vector<TangentialHistory>* const aside_;
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
@@ -607,10 +607,10 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   resizeScratch(s.force, n);
   if constexpr (kFriction) resizeScratch(s.torque, n);
 
-  out.springsBefore.resize(static_cast<std::size_t>(threads));
+  out.springsSetAside.resize(static_cast<std::size_t>(threads));
   int broken = 0;
   if (threads == 1) {
-    PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsBefore[0]);
+    PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsSetAside[0]);
     ContactChunk chunk;
     pass.ownedPhase(0, chunk);
     if (after) broken = (*after)(0, n);
@@ -620,7 +620,7 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
       // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
       const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
       const std::size_t parts = static_cast<std::size_t>(threads);
-      PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsBefore[omp_get_thread_num()]);
+      PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsSetAside[omp_get_thread_num()]);
       ContactChunk chunk;  // per thread, on its stack
       for (std::size_t t = omp_get_thread_num(); t < parts; t += team) pass.ownedPhase(t, chunk);
       if (after) {

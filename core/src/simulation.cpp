@@ -553,7 +553,7 @@ MemoryUse Simulation::memoryUse() const {
                 bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
                 bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
-  m.scratch = bytes(c.crossingSpring) + bytes(c.springsBefore) + bytes(c.blockPowers) +
+  m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +
               bytes(c.blockReaction);
   return m;
 }

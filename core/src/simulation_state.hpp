@@ -142,9 +142,9 @@ struct ContactScratch {
   /// Per crossing pair (friction only): its stored spring as it was before the pass, which the
   /// second particle's part reads while the first's part advances the stored one.
   std::vector<TangentialHistory> crossingSpring;
-  /// Per thread of the pass (friction only): the springs of the block it works on, as they
-  /// were before the pass, while the block's own array receives the advanced ones.
-  std::vector<std::vector<TangentialHistory>> springsBefore;
+  /// Per thread of the pass (friction only): the springs of its block not yet read when the
+  /// block's new springs would overwrite them (force_pass.cpp, SpringCursor).
+  std::vector<std::vector<TangentialHistory>> springsSetAside;
   std::vector<ContactPowers> blockPowers;  ///< per particle block
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };
