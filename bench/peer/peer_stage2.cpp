@@ -177,6 +177,7 @@ int run(const Options& o) {
   std::printf("simulated_s = %.9g\n", result.duration);
   std::printf("wall_s = %.6f\n", wall);
   std::printf("particle_steps_per_s = %.6g\n", n * double(result.steps) / wall);
+  std::printf("list_rebuilds = %llu\n", static_cast<unsigned long long>(sim.counters().rebuilds));
   std::printf("top_z_m = %.9f\n", box.upper.z());
   printTensor("sigma_eq1_Pa", box.eq1);
   std::printf("sigma_eq2_Pa = %.6f %.6f %.6f\n", box.eq2.x(), box.eq2.y(), box.eq2.z());
