@@ -221,8 +221,9 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       }
     }
     list.wallHistory = std::move(wallHistory);
+  } else {
+    list.springs = PairSprings{};
   }
-  if (!keepHistory) list.springs = PairSprings{};
   list.first = std::move(first);
   list.second = std::move(second);
   list.blockParticle = std::move(blockParticle);

@@ -22,14 +22,14 @@ std::uint64_t keyOf(const std::vector<std::uint32_t>& first,
 /// Whether pair k of block b (k in the block) holds a spring.
 bool holds(const std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>& blockPair,
            const std::vector<std::uint32_t>& blockWord, std::size_t b, std::size_t k) {
-  const std::size_t offset = k - blockPair[b];
-  return (held[blockWord[b] + offset / 64] >> (offset % 64)) & 1;
+  const auto [w, bit] = heldBit(blockPair, b, k);
+  return (held[blockWord[b] + w] >> bit) & 1;
 }
 
 void setHeld(std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>& blockPair,
              const std::vector<std::uint32_t>& blockWord, std::size_t b, std::size_t k) {
-  const std::size_t offset = k - blockPair[b];
-  held[blockWord[b] + offset / 64] |= std::uint64_t{1} << (offset % 64);
+  const auto [w, bit] = heldBit(blockPair, b, k);
+  held[blockWord[b] + w] |= std::uint64_t{1} << bit;
 }
 
 }  // namespace

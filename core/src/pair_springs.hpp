@@ -19,6 +19,16 @@ inline std::uint64_t bitsBelow(std::uint64_t word, std::size_t bit) {
   return word & ((std::uint64_t{1} << bit) - 1);
 }
 
+/// Where pair k of block b keeps its held bit: word `inBlock` of the block's words in
+/// PairSprings::held (from `blockWord`), bit `bit`.
+struct HeldBit {
+  std::size_t inBlock, bit;
+};
+inline HeldBit heldBit(const std::vector<std::uint32_t>& blockPair, std::size_t b, std::size_t k) {
+  const std::size_t offset = k - blockPair[b];
+  return {offset / 64, offset % 64};
+}
+
 /// Pair k's spring for k ascending over the calls (kNoSpring if it holds none): walks the
 /// blocks, counting the holding pairs before k in k's block. The list must hold springs
 /// (friction) laid out for its blocks.
@@ -33,7 +43,7 @@ class SpringReader {
       words_ = 0;
       before_ = 0;
     }
-    const std::size_t offset = k - blockPair[block_], w = offset / 64, bit = offset % 64;
+    const auto [w, bit] = heldBit(blockPair, block_, k);
     const std::uint64_t* held = list_.springs.held.data() + list_.blockWord[block_];
     for (; words_ < w; ++words_) before_ += static_cast<std::size_t>(std::popcount(held[words_]));
     if (((held[w] >> bit) & 1) == 0) return kNoSpring;

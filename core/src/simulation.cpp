@@ -549,8 +549,8 @@ MemoryUse Simulation::memoryUse() const {
                  bytes(l.referencePosition) + bytes(l.referenceWallPoint);
   m.history = bytes(l.springs.held) + bytes(l.springs.block) + bytes(l.wallHistory);
   const ForcePlan& x = l.plan;
-  m.forcePlan = bytes(l.blockParticle) + bytes(l.blockPair) + bytes(x.blockWall) +
-                bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
+  m.forcePlan = bytes(l.blockParticle) + bytes(l.blockPair) + bytes(l.blockWord) +
+                bytes(x.blockWall) + bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
                 bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
   m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +
