@@ -47,6 +47,7 @@ struct Options {
   std::filesystem::path exportLiggghts;
   int radiusTypes = 10;
   bool meanWallStiffness = false;
+  bool rebuildEveryStep = false;
 };
 
 constexpr const char* kMakeCheckpoint =
@@ -138,6 +139,7 @@ int run(const Options& o) {
   if (o.dt) sim.setTimeStep(*o.dt);
   if (o.skin) sim.setSkin(*o.skin);
   sim.setThreads(o.threads);
+  sim.setRebuildEveryStep(o.rebuildEveryStep);
 
   std::ofstream series;
   StageObserver observer;
@@ -214,6 +216,8 @@ int main(int argc, char** argv) {
                  "Radius classes (atom types) for the peers' per-type stiffness (default 10)");
   app.add_flag("--mean-wall-stiffness", o.meanWallStiffness,
                "LAMMPS: one set of walls, stiffness of the mean radius (default: per class)");
+  app.add_flag("--rebuild-every-step", o.rebuildEveryStep,
+               "Rebuild the neighbour list every step (times the rebuild; same physics)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

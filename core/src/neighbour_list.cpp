@@ -24,10 +24,14 @@ struct CellGrid {
   std::vector<std::uint32_t> cellStart;  ///< prefix sums, size cells + 1
   std::vector<std::uint32_t> items;      ///< particle indices ordered by cell
 
-  /// Clamped before the cast, so that no position, however far out, overflows a long.
+  double inverseCellSize = 1.0;
+
+  /// Clamped before the cast, so that no position, however far out, overflows a long. A
+  /// product and a truncation, not a division and a floor: both ran for every particle twice
+  /// a rebuild. (Truncation is the floor here, as the clamp leaves only c ≥ 1.)
   long cellCoord(double x, int axis) const {
-    const double c = std::floor((x - origin[axis]) / cellSize);
-    if (!(c > 0.0)) return 0;  // also NaN
+    const double c = (x - origin[axis]) * inverseCellSize;
+    if (!(c >= 1.0)) return 0;  // also NaN
     return c < double(dims[axis] - 1) ? static_cast<long>(c) : dims[axis] - 1;
   }
   long cellIndex(long cx, long cy, long cz) const { return (cz * dims[1] + cy) * dims[0] + cx; }
@@ -43,7 +47,9 @@ CellGrid binParticles(const Particles& p, double reach) {
     hi = hi.cwiseMax(p.position[i]);
   }
   grid.origin = lo;
-  grid.cellSize = reach;
+  // A hair larger than the reach: two particles within it then never lie two cells apart, the
+  // rounding of cellCoord's product included (the list does not depend on the grid otherwise).
+  grid.cellSize = reach * (1.0 + 1e-9);
   // A particle far from the others must not blow up the cell count: cap it at ~2 cells/particle.
   const double maxCells = 2.0 * static_cast<double>(n) + 64.0;
   // The count is formed in floating point and cast only once it is small: a particle thrown
@@ -61,6 +67,7 @@ CellGrid binParticles(const Particles& p, double reach) {
     grid.cellSize *= cells < 1e6 * maxCells ? 1.5 : 1e3;  // big leaps for absurd extents
   }
   for (int a = 0; a < 3; ++a) grid.dims[a] = static_cast<long>(cellsAlong(a));
+  grid.inverseCellSize = 1.0 / grid.cellSize;
   const std::size_t cellCount =
       static_cast<std::size_t>(grid.dims[0] * grid.dims[1] * grid.dims[2]);
   std::vector<std::uint32_t> cellOf(n);
@@ -76,6 +83,45 @@ CellGrid binParticles(const Particles& p, double reach) {
   std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
   for (std::size_t i = 0; i < n; ++i) grid.items[fill[cellOf[i]]++] = static_cast<std::uint32_t>(i);
   return grid;
+}
+
+/// Writes the partners j > i of particle i, those within R_i + R_j + skin, to found[0, count) in
+/// ascending order (growing `found` as needed) and returns their count. The 3 × 3 × 3 cells
+/// around i are read as nine rows of three cells, each a contiguous range of the grid's items;
+/// the test appends every particle and keeps it by advancing the count, so that the loop does
+/// not branch on the ≈ 1 in 14 that are kept.
+std::size_t partnersOf(const CellGrid& grid, const Particles& p, double skin, std::size_t i,
+                       std::vector<std::uint32_t>& found) {
+  const Vec3& xi = p.position[i];
+  const double ri = p.radius[i];
+  const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
+             cz = grid.cellCoord(xi[2], 2);
+  const long x0 = std::max(cx - 1, 0L), x1 = std::min(cx + 1, grid.dims[0] - 1);
+  std::size_t count = 0;
+  for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
+    for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
+      const std::uint32_t begin = grid.cellStart[grid.cellIndex(x0, y, z)];
+      const std::uint32_t end = grid.cellStart[grid.cellIndex(x1, y, z) + 1];
+      if (found.size() < count + (end - begin)) found.resize(2 * (count + end - begin));
+      std::uint32_t* out = found.data();
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const std::uint32_t j = grid.items[k];
+        const double reach = ri + p.radius[j] + skin;
+        const bool near = (p.position[j] - xi).squaredNorm() < reach * reach;
+        out[count] = j;
+        count += static_cast<std::size_t>(near & (j > i));
+      }
+    }
+  }
+  // Rows come in cell order, not index order: an insertion sort, as the partners are few.
+  std::uint32_t* out = found.data();
+  for (std::size_t a = 1; a < count; ++a) {
+    const std::uint32_t j = out[a];
+    std::size_t b = a;
+    for (; b > 0 && out[b - 1] > j; --b) out[b] = out[b - 1];
+    out[b] = j;
+  }
+  return count;
 }
 
 // ---- History merge ------------------------------------------------------------------------
@@ -140,27 +186,6 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   std::vector<std::uint32_t> first, second;
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
-    // Calls found(j) for every j > i within R_i + R_j + skin of i.
-    auto search = [&](std::size_t i, auto&& found) {
-      const Vec3& xi = p.position[i];
-      const long cx = grid.cellCoord(xi[0], 0), cy = grid.cellCoord(xi[1], 1),
-                 cz = grid.cellCoord(xi[2], 2);
-      for (long z = std::max(cz - 1, 0L); z <= std::min(cz + 1, grid.dims[2] - 1); ++z) {
-        for (long y = std::max(cy - 1, 0L); y <= std::min(cy + 1, grid.dims[1] - 1); ++y) {
-          for (long x = std::max(cx - 1, 0L); x <= std::min(cx + 1, grid.dims[0] - 1); ++x) {
-            const long c = grid.cellIndex(x, y, z);
-            // A cell lists its particles in ascending order: skip those up to i unread.
-            std::uint32_t k = grid.cellStart[c];
-            while (k < grid.cellStart[c + 1] && grid.items[k] <= i) ++k;
-            for (; k < grid.cellStart[c + 1]; ++k) {
-              const std::uint32_t j = grid.items[k];
-              const double reach = p.radius[i] + p.radius[j] + skin;
-              if ((p.position[j] - xi).squaredNorm() < reach * reach) found(j);
-            }
-          }
-        }
-      }
-    };
     const int teams = threads > 0 ? threads : omp_get_max_threads();
     if (teams == 1 && !list.second.empty()) {
       // One search, appending into the old list's size + 1/8, reserved for both arrays: they
@@ -169,30 +194,33 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       const std::size_t expected = list.second.size() + list.second.size() / 8 + 16;
       first.reserve(expected);
       second.reserve(expected);
+      std::vector<std::uint32_t> found;
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t begin = second.size();
-        search(i, [&second](std::uint32_t j) { second.push_back(j); });
-        std::sort(second.begin() + static_cast<std::ptrdiff_t>(begin), second.end());
+        const std::size_t count = partnersOf(grid, p, skin, i, found);
+        second.insert(second.end(), found.begin(), found.begin() + std::ptrdiff_t(count));
         first.resize(second.size(), static_cast<std::uint32_t>(i));
       }
     } else {
       std::vector<std::uint32_t> start(n + 1, 0);
-#pragma omp parallel for schedule(static) num_threads(teams)
-      for (std::size_t i = 0; i < n; ++i) {
-        std::uint32_t count = 0;
-        search(i, [&count](std::uint32_t) { ++count; });
-        start[i + 1] = count;
-      }
-      for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-      first.resize(start[n]);
-      second.resize(start[n]);
-#pragma omp parallel for schedule(static) num_threads(teams)
-      for (std::size_t i = 0; i < n; ++i) {
-        std::uint32_t* out = second.data() + start[i];
-        search(i, [&out](std::uint32_t j) { *out++ = j; });
-        std::sort(second.begin() + start[i], second.begin() + start[i + 1]);
-        std::fill(first.begin() + start[i], first.begin() + start[i + 1],
-                  static_cast<std::uint32_t>(i));
+#pragma omp parallel num_threads(teams)
+      {
+        std::vector<std::uint32_t> found;
+#pragma omp for schedule(static)
+        for (std::size_t i = 0; i < n; ++i) {
+          start[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, skin, i, found));
+        }
+#pragma omp single
+        {
+          for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+          first.resize(start[n]);
+          second.resize(start[n]);
+        }
+#pragma omp for schedule(static)
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::size_t count = partnersOf(grid, p, skin, i, found);
+          std::copy_n(found.begin(), count, second.begin() + start[i]);
+          std::fill_n(first.begin() + start[i], count, static_cast<std::uint32_t>(i));
+        }
       }
     }
   }
