@@ -75,6 +75,42 @@ template <bool kPositions>
   return probe != 0.0 ? 1 : 0;
 }
 
+/// Gear's corrector of one step and predictor of the next over [b, e) in one loop: the
+/// corrected values go straight into the prediction, so the eleven arrays are read and written
+/// once a step instead of twice. Each value sees the operations of gearCorrect then gearPredict
+/// in their order (the same bits). Bit 0: a corrected value is not finite.
+template <bool kPositions>
+[[gnu::always_inline]] inline int gearCorrectPredict(double* __restrict x, double* __restrict v,
+                                                     double* __restrict d2, double* __restrict d3,
+                                                     double* __restrict d4, double* __restrict d5,
+                                                     const double* __restrict accel, double dt,
+                                                     std::size_t b, std::size_t e) {
+  const double sx = Gear5::kC0 * dt * dt / 2.0, sv = Gear5::kC1 * dt / 2.0,
+               s3 = Gear5::kC3 * 3.0 / dt, s4 = Gear5::kC4 * 12.0 / (dt * dt),
+               s5 = Gear5::kC5 * 60.0 / (dt * dt * dt);
+  const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
+  double probe = 0.0;
+#pragma omp simd reduction(+ : probe)
+  for (std::size_t k = b; k < e; ++k) {
+    const double delta = accel[k] - d2[k];
+    const double vk = v[k] + sv * delta;
+    const double a = d2[k] + Gear5::kC2 * delta, p3 = d3[k] + s3 * delta, p4 = d4[k] + s4 * delta,
+                 p5 = d5[k] + s5 * delta;
+    probe += vk * 0.0;
+    if constexpr (kPositions) {
+      const double xk = x[k] + sx * delta;
+      probe += xk * 0.0;
+      x[k] = xk + dt * (vk + h2 * (a + h3 * (p3 + h4 * (p4 + h5 * p5))));
+    }
+    v[k] = vk + dt * (a + h2 * (p3 + h3 * (p4 + h4 * p5)));
+    d2[k] = a + dt * (p3 + h2 * (p4 + h3 * p5));
+    d3[k] = p3 + dt * (p4 + h2 * p5);
+    d4[k] = p4 + dt * p5;
+    d5[k] = p5;
+  }
+  return probe != 0.0 ? 1 : 0;
+}
+
 /// Verlet's drift over [b, e): x += v Δt + a Δt²/2 (as two half kicks around the move), v += a Δt.
 template <bool kPositions>
 [[gnu::always_inline]] inline int verletDrift(double* __restrict x, double* __restrict v,
@@ -108,6 +144,34 @@ template <bool kPositions>
     probe += v[k] * 0.0;
   }
   return probe != 0.0 ? 1 : 0;
+}
+
+/// Verlet's kick of one step and drift of the next over [b, e) in one loop, with the
+/// operations of verletKick then verletDrift (the same bits). Bit 0: a kicked velocity is not
+/// finite; bit 1: a drifted position.
+template <bool kPositions>
+[[gnu::always_inline]] inline int verletKickDrift(double* __restrict x, double* __restrict v,
+                                                  double* __restrict a,
+                                                  const double* __restrict accel, double dt,
+                                                  std::size_t b, std::size_t e) {
+  const double half = 0.5 * dt;
+  double kicked = 0.0, drifted = 0.0;
+#pragma omp simd reduction(+ : kicked, drifted)
+  for (std::size_t k = b; k < e; ++k) {
+    const double ak = accel[k];
+    double vk = v[k] + half * (ak - a[k]);
+    kicked += vk * 0.0;
+    a[k] = ak;
+    vk += half * ak;
+    if constexpr (kPositions) {
+      const double xk = x[k] + dt * vk;
+      drifted += xk * 0.0;
+      x[k] = xk;
+    }
+    vk += half * ak;
+    v[k] = vk;
+  }
+  return (kicked != 0.0 ? 1 : 0) | (drifted != 0.0 ? 2 : 0);
 }
 
 }  // namespace
@@ -154,6 +218,17 @@ namespace {
 [[gnu::always_inline]] inline int verletKickBody(const FlatMotion& m, const double* accel,
                                                  double dt, std::size_t b, std::size_t e) {
   return verletKick(m.v, m.d2, accel, dt, b, e);
+}
+
+[[gnu::always_inline]] inline int gearCorrectPredictBody(const FlatMotion& m, const double* accel,
+                                                         double dt, std::size_t b, std::size_t e) {
+  return m.x ? gearCorrectPredict<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
+             : gearCorrectPredict<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
+}
+[[gnu::always_inline]] inline int verletKickDriftBody(const FlatMotion& m, const double* accel,
+                                                      double dt, std::size_t b, std::size_t e) {
+  return m.x ? verletKickDrift<true>(m.x, m.v, m.d2, accel, dt, b, e)
+             : verletKickDrift<false>(nullptr, m.v, m.d2, accel, dt, b, e);
 }
 
 /// a = F/m + g and dω/dt = T/I over particles [b, e), in place; the divisions in blocks that
@@ -230,6 +305,16 @@ int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e) {
   return dispatch<verletKickBody>(m, accel, dt, b, e);
+}
+
+int gearCorrectPredictRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                            std::size_t e) {
+  return dispatch<gearCorrectPredictBody>(m, accel, dt, b, e);
+}
+
+int verletKickDriftRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                         std::size_t e) {
+  return dispatch<verletKickDriftBody>(m, accel, dt, b, e);
 }
 
 void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,

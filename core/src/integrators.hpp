@@ -29,6 +29,13 @@ int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::s
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e);
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e);
+/// A step's corrector (kick) and the next step's predictor (drift) in one loop over [b, e), the
+/// same bits as the two loops one after the other. Bit 0 of the result: a corrected value is
+/// not finite; bit 1: a predicted position (Verlet only; Gear's predictor checks nothing).
+int gearCorrectPredictRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                            std::size_t e);
+int verletKickDriftRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
+                         std::size_t e);
 /// Over particles [b, e), in place: force → acceleration F/m + g and, with `torque`, torque →
 /// angular acceleration T/I (I = 0.4 m r²).
 void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,

@@ -223,6 +223,8 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 // ---- The step -----------------------------------------------------------------------------
 
+namespace {
+
 /// One time step, as named passes:
 ///   1. predict (Gear) or drift (Verlet) translation and, with friction, rotation;
 ///   2. move the walls with their prescribed velocities;
@@ -231,13 +233,15 @@ Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 ///   5. accelerations from Eqs. (3), (4): a = ΣF/m + g, dω/dt = Σ d×F / I;
 ///   6. correct (Gear) or kick (Verlet);
 ///   7. accumulate dissipation and work (trapezoidal rule on the powers of passes 4).
-void Simulation::step() {
-  SimulationState& s = *state_;
+/// With `predictNext`, pass 6 also runs the next step's pass 1 in the same loop (the same bits:
+/// each value is computed alone) and the next step skips its own.
+void advance(SimulationState& s, bool predictNext) {
   Particles& p = s.particles;
   const double dt = s.config.timeStep;
   const bool gear = s.config.integrator == Integrator::Gear5;
   const std::size_t n = p.size();
   const int threads = s.config.threads;
+  const std::size_t teams = static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads());
 
   // 1. Predict, translation and rotation in one pass over particle ranges.
   const FlatMotion move = FlatMotion::of(&p.position, p.velocity, s.translation);
@@ -245,21 +249,30 @@ void Simulation::step() {
   const bool rotating = s.frictional;
   // On the same ranges, each range's largest move since the neighbour list was built (a
   // maximum: the same in any split), so the staleness test needs no pass of its own.
-  s.rangeMove2.assign(static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads()), 0.0);
-  auto predict = [&](std::size_t b, std::size_t e) {
-    int broken = 0;
-    if (gear) {
-      gearPredictRange(move, dt, 3 * b, 3 * e);
-      if (rotating) gearPredictRange(turn, dt, 3 * b, 3 * e);
-    } else {
-      broken = verletDriftRange(move, dt, 3 * b, 3 * e);
-      if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
-    }
-    s.rangeMove2[static_cast<std::size_t>(omp_get_thread_num())] =
-        largestMove2(s.neighbours, p, b, e);
-    return broken;
+  auto moved = [&](std::size_t b, std::size_t e) {
+    double& largest = s.rangeMove2[static_cast<std::size_t>(omp_get_thread_num())];
+    largest = std::max(largest, largestMove2(s.neighbours, p, b, e));
   };
-  const bool driftedFinite = overRanges(n, threads, predict) == 0;
+  bool driftedFinite = true;
+  if (s.predictedAhead) {
+    driftedFinite = !s.predictedBroken;
+    s.predictedAhead = false;
+  } else {
+    s.rangeMove2.assign(teams, 0.0);
+    auto predict = [&](std::size_t b, std::size_t e) {
+      int broken = 0;
+      if (gear) {
+        gearPredictRange(move, dt, 3 * b, 3 * e);
+        if (rotating) gearPredictRange(turn, dt, 3 * b, 3 * e);
+      } else {
+        broken = verletDriftRange(move, dt, 3 * b, 3 * e);
+        if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
+      }
+      moved(b, e);
+      return broken;
+    };
+    driftedFinite = overRanges(n, threads, predict) == 0;
+  }
   const double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
@@ -275,12 +288,18 @@ void Simulation::step() {
   // own acceleration. The force pass runs it on its own threads once the forces are complete.
   const ContactPowers before = s.powers;
   const Vec3 g = s.config.gravity;
+  if (predictNext) s.rangeMove2.assign(teams, 0.0);  // the next step's moves, from pass 6
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
     const double* accel = s.force.front().data();
     const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
     accelerationsRange(s.force, rotating ? &s.torque : nullptr, p, g, b, e);
-    int broken = 0;
-    if (gear) {
+    int broken = 0;  // bit 0: this step's state; bit 1: the next step's prediction
+    if (predictNext) {
+      auto both = gear ? gearCorrectPredictRange : verletKickDriftRange;
+      broken |= both(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) broken |= both(turn, angularAccel, dt, 3 * b, 3 * e);
+      moved(b, e);
+    } else if (gear) {
       broken |= gearCorrectRange(move, accel, dt, 3 * b, 3 * e);
       if (rotating) broken |= gearCorrectRange(turn, angularAccel, dt, 3 * b, 3 * e);
     } else {
@@ -289,8 +308,10 @@ void Simulation::step() {
     }
     return broken;
   };
-  const bool finite = computeContactForces(s, dt, &correct) == 0 && driftedFinite;
-  if (!finite) reportBrokenState(s);
+  const int broken = computeContactForces(s, dt, &correct);
+  s.predictedAhead = predictNext;
+  s.predictedBroken = (broken & 2) != 0;
+  if ((broken & 1) != 0 || !driftedFinite) reportBrokenState(s);
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;
   EnergyAccumulators& e = s.energy;
@@ -307,8 +328,16 @@ void Simulation::step() {
   s.counters.tangentialEvaluations += now.tangentialEvaluations;
 }
 
+}  // namespace
+
+void Simulation::step() {
+  advance(*state_, false);
+}
+
 void Simulation::run(std::uint64_t steps) {
-  for (std::uint64_t k = 0; k < steps; ++k) step();
+  // A step whose state nobody sees between it and the next predicts the next one in its
+  // corrector's loop; the last step leaves the state corrected, as step() does.
+  for (std::uint64_t k = 0; k < steps; ++k) advance(*state_, k + 1 < steps);
 }
 
 // ---- Accessors and measurements -----------------------------------------------------------

@@ -183,7 +183,11 @@ struct SimulationState {
   NeighbourList neighbours;
   ContactScratch contactScratch;
   std::vector<double> rangeMove2;  ///< per thread of the predictor: its largest move² [m²]
-  ContactPowers powers;            ///< of the last force evaluation
+  /// Simulation::run's steps but the last predict the next step in their corrector's loop: the
+  /// state then holds the next step's prediction (never seen outside run) and whether a
+  /// predicted position was not finite.
+  bool predictedAhead = false, predictedBroken = false;
+  ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
 };

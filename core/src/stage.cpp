@@ -73,6 +73,12 @@ class StageClock {
     }
   }
 
+  /// Whether observe(sim, t) would call an observer.
+  bool due(double t) const {
+    return t + tolerance_ >= double(nextSample_) * output_.interval ||
+           (nextSnapshot_ < snapshots_.size() && snapshots_[nextSnapshot_] <= t + tolerance_);
+  }
+
   /// Called at the stage start (t = 0) and after every step with the stage time t [s].
   void observe(const Simulation& sim, double t) {
     // The sample index is an integer: k·interval is compared, never a running sum of intervals.
@@ -136,9 +142,21 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
+  // Whether anything looks at the state after step m: the steps before such a step run as one
+  // batch (Simulation::run, whose steps predict the next one in their corrector's loop).
+  auto seen = [&](std::uint64_t m) {
+    const double t = double(m) * dt;
+    return !(t + tolerance < stage.end.maxTime) || stage.end.kineticEnergyBelow.has_value() ||
+           clock.due(t) ||
+           (observer.onProgress && observer.progressSteps > 0 && m % observer.progressSteps == 0) ||
+           (observer.onCheckpoint && observer.checkpointSteps > 0 &&
+            m % observer.checkpointSteps == 0);
+  };
   while (double(n) * dt + tolerance < stage.end.maxTime) {
-    sim.step();
-    ++n;
+    std::uint64_t batch = 1;
+    while (!seen(n + batch)) ++batch;
+    sim.run(batch);
+    n += batch;
     const double t = double(n) * dt;
     clock.observe(sim, t);
     if (observer.onProgress && observer.progressSteps > 0 && n % observer.progressSteps == 0) {
