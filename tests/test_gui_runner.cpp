@@ -38,7 +38,7 @@ Snapshot latest(SimRunner& runner) {
 TEST(GuiRunner, StepsExactlyAsTheCoreDoes) {
   SimRunner runner(kDemo);
   runner.setStepsPerUpdate(130);  // not a divisor of the steps asked: the last update is short
-  runner.step(1200);               // 0.2 s: the spheres have landed
+  runner.step(1200);              // 0.2 s: the spheres have landed
   runner.flush();
   Snapshot s;
   for (int k = 0; k < 2000 && s.steps < 1200; ++k) {
