@@ -11,9 +11,10 @@
 /// the same too: linear scaling. The timed steps then run with the integrator and friction asked
 /// for, 1 and 2 threads, from the same settled state.
 ///
-/// Memory: VmHWM (the process's peak resident set, from /proc/self/status, reset after the
-/// settling run) minus the resident set before the packing was built, divided by n: everything
-/// the timed run needed per particle, transient buffers of neighbour-list rebuilds included.
+/// Memory: VmHWM (the process's peak resident set, from /proc/self/status, reset before each
+/// row) minus the resident set before the packing was built, divided by n: everything the timed
+/// run needed per particle, transient buffers of neighbour-list rebuilds included; then the same
+/// after one more (untimed) step that rebuilds the list, the peak of a run that holds a rebuild.
 /// Arrays of 1 MiB and more are mapped on their own (mallopt in main), so that an array freed
 /// by a rebuild leaves the resident set at once instead of staying in glibc's heap. Two
 /// threads need a little more than one: the pairs straddling them keep a copy of their spring
@@ -208,16 +209,14 @@ void runCase(long n, const Options& o) {
   config.threads = 1;  // the timed runs set their count; built on one, nothing is allocated
                        // for two threads before the 2-thread row
   granular::Simulation sim(std::move(particles), granular::buildWalls(box), config);
-  // The peak so far is the settling run's (two threads, so with the force pass's per-contact
-  // slots): start the count afresh (Linux: "5" to clear_refs resets VmHWM to the current set),
-  // so that the 1-thread row shows what a 1-thread run needs and the 2-thread row what the
-  // slots add.
-  malloc_trim(0);  // hand the settling run's freed heap back first (glibc keeps it otherwise)
-  std::ofstream("/proc/self/clear_refs") << "5";
-
   const long steps =
       o.steps > 0 ? o.steps : std::max(20L, static_cast<long>(2e7 / static_cast<double>(n)));
   for (int threads : {1, 2}) {
+    // The peak so far is the settling run's or the last row's: start the count afresh (Linux:
+    // "5" to clear_refs resets VmHWM to the current set), so that each row shows what a run on
+    // its thread count needs.
+    malloc_trim(0);  // hand the freed heap back first (glibc keeps it otherwise)
+    std::ofstream("/proc/self/clear_refs") << "5";
     sim.setThreads(threads);
     sim.run(2);  // warm the caches and the thread pool
     const std::uint64_t rebuildsBefore = sim.counters().rebuilds;
@@ -235,6 +234,12 @@ void runCase(long n, const Options& o) {
     const double wall = seconds(start);
     const double particleSteps = static_cast<double>(n) * static_cast<double>(steps);
     const double peak = statusBytes("VmHWM");
+    // One more step, untimed, that rebuilds the neighbour list: the timed steps may hold no
+    // rebuild (at 10⁶ a rebuild comes every few hundred steps), yet the run's peak is there.
+    sim.setRebuildEveryStep(true);
+    sim.step();
+    sim.setRebuildEveryStep(false);
+    const double rebuildPeak = statusBytes("VmHWM");
     {
       // Where the bytes are, from the arrays' capacities (stderr, beside the table).
       const granular::MemoryUse m = sim.memoryUse();
@@ -250,13 +255,15 @@ void runCase(long n, const Options& o) {
                    per * static_cast<double>(m.forcePlan), per * static_cast<double>(m.scratch),
                    per * static_cast<double>(sim.counters().neighbourPairs));
     }
-    std::printf("| %ld%s | %d | %s | %.2g | %.3f | %.3g M | %.1f | %.2f | %lu | %.0f | %.0f s |\n",
-                n, o.shuffle ? " (shuffled)" : (o.cellOrder ? " (cell order)" : ""), threads,
-                o.integrator == granular::Integrator::Gear5 ? "Gear5" : "Verlet", o.friction,
-                1e3 * wall / static_cast<double>(steps), particleSteps / wall / 1e6,
-                1e9 * wall / particleSteps, contacts / particleSteps,
-                static_cast<unsigned long>(sim.counters().rebuilds - rebuildsBefore),
-                (peak - baseline) / static_cast<double>(n), settleSeconds);
+    std::printf(
+        "| %ld%s | %d | %s | %.2g | %.3f | %.3g M | %.1f | %.2f | %lu | %.0f | %.0f | %.0f s |\n",
+        n, o.shuffle ? " (shuffled)" : (o.cellOrder ? " (cell order)" : ""), threads,
+        o.integrator == granular::Integrator::Gear5 ? "Gear5" : "Verlet", o.friction,
+        1e3 * wall / static_cast<double>(steps), particleSteps / wall / 1e6,
+        1e9 * wall / particleSteps, contacts / particleSteps,
+        static_cast<unsigned long>(sim.counters().rebuilds - rebuildsBefore),
+        (peak - baseline) / static_cast<double>(n),
+        (rebuildPeak - baseline) / static_cast<double>(n), settleSeconds);
     std::fflush(stdout);
   }
 }
@@ -272,8 +279,9 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
   std::printf(
       "| n | threads | integrator | μ | ms / step | particle-steps / s | ns / particle-step | "
-      "contacts / particle | rebuilds | peak bytes / particle | settle (untimed) |\n"
-      "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+      "contacts / particle | rebuilds | peak bytes / particle | peak with a rebuild | "
+      "settle (untimed) |\n"
+      "|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (long n : o.sizes) {
     try {
       runCase(n, o);
