@@ -234,6 +234,7 @@ void runCase(long n, const Options& o) {
     const double wall = seconds(start);
     const double particleSteps = static_cast<double>(n) * static_cast<double>(steps);
     const double peak = statusBytes("VmHWM");
+    const std::uint64_t rebuilds = sim.counters().rebuilds - rebuildsBefore;
     // One more step, untimed, that rebuilds the neighbour list: the timed steps may hold no
     // rebuild (at 10⁶ a rebuild comes every few hundred steps), yet the run's peak is there.
     sim.setRebuildEveryStep(true);
@@ -260,8 +261,7 @@ void runCase(long n, const Options& o) {
         n, o.shuffle ? " (shuffled)" : (o.cellOrder ? " (cell order)" : ""), threads,
         o.integrator == granular::Integrator::Gear5 ? "Gear5" : "Verlet", o.friction,
         1e3 * wall / static_cast<double>(steps), particleSteps / wall / 1e6,
-        1e9 * wall / particleSteps, contacts / particleSteps,
-        static_cast<unsigned long>(sim.counters().rebuilds - rebuildsBefore),
+        1e9 * wall / particleSteps, contacts / particleSteps, static_cast<unsigned long>(rebuilds),
         (peak - baseline) / static_cast<double>(n),
         (rebuildPeak - baseline) / static_cast<double>(n), settleSeconds);
     std::fflush(stdout);
