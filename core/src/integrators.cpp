@@ -26,150 +26,122 @@ inline double* flat(std::vector<Vec3>* v) {
 // checks every value at no extra memory traffic. (An OR of `x * 0.0 != 0.0` kept GCC 12 from
 // vectorising the loops: they ran one double at a time.)
 
-/// Gear's predictor over [b, e); with x also the positions (translation), without only the
-/// velocity and its derivatives (rotation).
-template <bool kPositions>
-[[gnu::always_inline]] inline int gearPredict(double* __restrict x, double* __restrict v,
-                                              double* __restrict d2, double* __restrict d3,
-                                              double* __restrict d4, const double* __restrict d5,
-                                              double dt, std::size_t b, std::size_t e) {
-  const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
-  for (std::size_t k = b; k < e; ++k) {
-    const double a = d2[k], p3 = d3[k], p4 = d4[k], p5 = d5[k];
-    // Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!.
-    if constexpr (kPositions) x[k] += dt * (v[k] + h2 * (a + h3 * (p3 + h4 * (p4 + h5 * p5))));
-    v[k] += dt * (a + h2 * (p3 + h3 * (p4 + h4 * p5)));
-    d2[k] = a + dt * (p3 + h2 * (p4 + h3 * p5));
-    d3[k] = p3 + dt * (p4 + h2 * p5);
-    d4[k] = p4 + dt * p5;
-  }
-  return 0;
-}
+// Each scheme's update of one value is written once, as a step on locals; the loops below
+// compose them, so a step's corrector followed by the next step's predictor in one loop does
+// exactly what the two loops do one after the other (the same bits by construction).
 
-/// Gear's corrector over [b, e); nonzero if a value it wrote is not finite.
-template <bool kPositions>
-[[gnu::always_inline]] inline int gearCorrect(double* __restrict x, double* __restrict v,
-                                              double* __restrict d2, double* __restrict d3,
-                                              double* __restrict d4, double* __restrict d5,
-                                              const double* __restrict accel, double dt,
-                                              std::size_t b, std::size_t e) {
-  // r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ k!/Δt^k.
-  const double sx = Gear5::kC0 * dt * dt / 2.0, sv = Gear5::kC1 * dt / 2.0,
-               s3 = Gear5::kC3 * 3.0 / dt, s4 = Gear5::kC4 * 12.0 / (dt * dt),
-               s5 = Gear5::kC5 * 60.0 / (dt * dt * dt);
+/// Gear's predictor for one value: Horner forms of the Taylor series x(t+Δt) = Σ x^(k) Δt^k / k!,
+/// each from the values before the step (x from the old v, v from the old a, ...).
+struct GearPredictor {
+  double dt, h2, h3, h4, h5;
+  explicit GearPredictor(double step)
+      : dt(step), h2(step / 2.0), h3(step / 3.0), h4(step / 4.0), h5(step / 5.0) {}
+  template <bool kPositions>
+  [[gnu::always_inline]] void operator()(double& x, double& v, double& a, double& p3, double& p4,
+                                         double p5) const {
+    if constexpr (kPositions) x += dt * (v + h2 * (a + h3 * (p3 + h4 * (p4 + h5 * p5))));
+    v += dt * (a + h2 * (p3 + h3 * (p4 + h4 * p5)));
+    a = a + dt * (p3 + h2 * (p4 + h3 * p5));
+    p3 = p3 + dt * (p4 + h2 * p5);
+    p4 = p4 + dt * p5;
+  }
+};
+
+/// Gear's corrector for one value: r_k += c_k Δ with Δ = δ Δt²/2, unscaled: x^(k) += c_k Δ
+/// k!/Δt^k, δ the acceleration at the predicted state minus the predicted one.
+struct GearCorrector {
+  double sx, sv, s3, s4, s5;
+  explicit GearCorrector(double dt)
+      : sx(Gear5::kC0 * dt * dt / 2.0),
+        sv(Gear5::kC1 * dt / 2.0),
+        s3(Gear5::kC3 * 3.0 / dt),
+        s4(Gear5::kC4 * 12.0 / (dt * dt)),
+        s5(Gear5::kC5 * 60.0 / (dt * dt * dt)) {}
+  template <bool kPositions>
+  [[gnu::always_inline]] void operator()(double accel, double& x, double& v, double& a, double& p3,
+                                         double& p4, double& p5) const {
+    const double delta = accel - a;
+    if constexpr (kPositions) x += sx * delta;
+    v += sv * delta;
+    a += Gear5::kC2 * delta;
+    p3 += s3 * delta;
+    p4 += s4 * delta;
+    p5 += s5 * delta;
+  }
+};
+
+/// Gear over [b, e): the corrector (with accel), the predictor, or the one then the other; with
+/// x also the positions (translation), without only the velocity and its derivatives
+/// (rotation). Nonzero if a corrected position or velocity is not finite.
+template <bool kPositions, bool kCorrect, bool kPredict>
+[[gnu::always_inline]] inline int gearLoop(double* __restrict x, double* __restrict v,
+                                           double* __restrict d2, double* __restrict d3,
+                                           double* __restrict d4, double* __restrict d5,
+                                           const double* __restrict accel, double dt, std::size_t b,
+                                           std::size_t e) {
+  const GearCorrector correct(dt);
+  const GearPredictor predict(dt);
   double probe = 0.0;
 #pragma omp simd reduction(+ : probe)
   for (std::size_t k = b; k < e; ++k) {
-    const double delta = accel[k] - d2[k];
-    if constexpr (kPositions) {
-      x[k] += sx * delta;
-      probe += x[k] * 0.0;
+    double xk = 0.0, vk = v[k], a = d2[k], p3 = d3[k], p4 = d4[k], p5 = d5[k];
+    if constexpr (kPositions) xk = x[k];
+    if constexpr (kCorrect) {
+      correct.template operator()<kPositions>(accel[k], xk, vk, a, p3, p4, p5);
+      probe += (kPositions ? xk : 0.0) * 0.0 + vk * 0.0;
     }
-    v[k] += sv * delta;
-    d2[k] += Gear5::kC2 * delta;
-    d3[k] += s3 * delta;
-    d4[k] += s4 * delta;
-    d5[k] += s5 * delta;
-    probe += v[k] * 0.0;
-  }
-  return probe != 0.0 ? 1 : 0;
-}
-
-/// Gear's corrector of one step and predictor of the next over [b, e) in one loop: the
-/// corrected values go straight into the prediction, so the eleven arrays are read and written
-/// once a step instead of twice. Each value sees the operations of gearCorrect then gearPredict
-/// in their order (the same bits). Bit 0: a corrected value is not finite.
-template <bool kPositions>
-[[gnu::always_inline]] inline int gearCorrectPredict(double* __restrict x, double* __restrict v,
-                                                     double* __restrict d2, double* __restrict d3,
-                                                     double* __restrict d4, double* __restrict d5,
-                                                     const double* __restrict accel, double dt,
-                                                     std::size_t b, std::size_t e) {
-  const double sx = Gear5::kC0 * dt * dt / 2.0, sv = Gear5::kC1 * dt / 2.0,
-               s3 = Gear5::kC3 * 3.0 / dt, s4 = Gear5::kC4 * 12.0 / (dt * dt),
-               s5 = Gear5::kC5 * 60.0 / (dt * dt * dt);
-  const double h2 = dt / 2.0, h3 = dt / 3.0, h4 = dt / 4.0, h5 = dt / 5.0;
-  double probe = 0.0;
-#pragma omp simd reduction(+ : probe)
-  for (std::size_t k = b; k < e; ++k) {
-    const double delta = accel[k] - d2[k];
-    const double vk = v[k] + sv * delta;
-    const double a = d2[k] + Gear5::kC2 * delta, p3 = d3[k] + s3 * delta, p4 = d4[k] + s4 * delta,
-                 p5 = d5[k] + s5 * delta;
-    probe += vk * 0.0;
-    if constexpr (kPositions) {
-      const double xk = x[k] + sx * delta;
-      probe += xk * 0.0;
-      x[k] = xk + dt * (vk + h2 * (a + h3 * (p3 + h4 * (p4 + h5 * p5))));
-    }
-    v[k] = vk + dt * (a + h2 * (p3 + h3 * (p4 + h4 * p5)));
-    d2[k] = a + dt * (p3 + h2 * (p4 + h3 * p5));
-    d3[k] = p3 + dt * (p4 + h2 * p5);
-    d4[k] = p4 + dt * p5;
-    d5[k] = p5;
-  }
-  return probe != 0.0 ? 1 : 0;
-}
-
-/// Verlet's drift over [b, e): x += v Δt + a Δt²/2 (as two half kicks around the move), v += a Δt.
-template <bool kPositions>
-[[gnu::always_inline]] inline int verletDrift(double* __restrict x, double* __restrict v,
-                                              const double* __restrict a, double dt, std::size_t b,
-                                              std::size_t e) {
-  const double half = 0.5 * dt;
-  double probe = 0.0;
-#pragma omp simd reduction(+ : probe)
-  for (std::size_t k = b; k < e; ++k) {
-    double vk = v[k] + half * a[k];
-    if constexpr (kPositions) {
-      x[k] += dt * vk;
-      probe += x[k] * 0.0;
-    }
-    vk += half * a[k];
+    if constexpr (kPredict) predict.template operator()<kPositions>(xk, vk, a, p3, p4, p5);
+    if constexpr (kPositions) x[k] = xk;
     v[k] = vk;
+    d2[k] = a;
+    d3[k] = p3;
+    d4[k] = p4;
+    if constexpr (kCorrect) d5[k] = p5;  // the predictor leaves it
   }
   return probe != 0.0 ? 1 : 0;
 }
 
-/// Verlet's kick over [b, e): v += (accel - a) Δt/2, a = accel.
-[[gnu::always_inline]] inline int verletKick(double* __restrict v, double* __restrict a,
-                                             const double* __restrict accel, double dt,
-                                             std::size_t b, std::size_t e) {
-  const double half = 0.5 * dt;
-  double probe = 0.0;
-#pragma omp simd reduction(+ : probe)
-  for (std::size_t k = b; k < e; ++k) {
-    v[k] += half * (accel[k] - a[k]);
-    a[k] = accel[k];
-    probe += v[k] * 0.0;
+/// Velocity Verlet's two halves for one value. Drift: x += v Δt + a Δt²/2 (as two half kicks
+/// around the move), v += a Δt (the predicted velocity). Kick: v += (accel - a) Δt/2, a = accel.
+struct VerletSteps {
+  double dt, half;
+  explicit VerletSteps(double step) : dt(step), half(0.5 * step) {}
+  template <bool kPositions>
+  [[gnu::always_inline]] void drift(double& x, double& v, double a) const {
+    double vk = v + half * a;
+    if constexpr (kPositions) x += dt * vk;
+    vk += half * a;
+    v = vk;
   }
-  return probe != 0.0 ? 1 : 0;
-}
+  [[gnu::always_inline]] void kick(double accel, double& v, double& a) const {
+    v += half * (accel - a);
+    a = accel;
+  }
+};
 
-/// Verlet's kick of one step and drift of the next over [b, e) in one loop, with the
-/// operations of verletKick then verletDrift (the same bits). Bit 0: a kicked velocity is not
-/// finite; bit 1: a drifted position.
-template <bool kPositions>
-[[gnu::always_inline]] inline int verletKickDrift(double* __restrict x, double* __restrict v,
-                                                  double* __restrict a,
-                                                  const double* __restrict accel, double dt,
-                                                  std::size_t b, std::size_t e) {
-  const double half = 0.5 * dt;
+/// Verlet over [b, e): the kick (with accel), the drift, or the one then the other. Bit 0: a
+/// kicked velocity is not finite; bit 1: a drifted position.
+template <bool kPositions, bool kKick, bool kDrift>
+[[gnu::always_inline]] inline int verletLoop(double* __restrict x, double* __restrict v,
+                                             double* __restrict a, const double* __restrict accel,
+                                             double dt, std::size_t b, std::size_t e) {
+  const VerletSteps steps(dt);
   double kicked = 0.0, drifted = 0.0;
 #pragma omp simd reduction(+ : kicked, drifted)
   for (std::size_t k = b; k < e; ++k) {
-    const double ak = accel[k];
-    double vk = v[k] + half * (ak - a[k]);
-    kicked += vk * 0.0;
-    a[k] = ak;
-    vk += half * ak;
-    if constexpr (kPositions) {
-      const double xk = x[k] + dt * vk;
-      drifted += xk * 0.0;
-      x[k] = xk;
+    double xk = 0.0, vk = v[k], ak = a[k];
+    if constexpr (kPositions && kDrift) xk = x[k];
+    if constexpr (kKick) {
+      steps.kick(accel[k], vk, ak);
+      kicked += vk * 0.0;
     }
-    vk += half * ak;
+    if constexpr (kDrift) {
+      steps.drift<kPositions>(xk, vk, ak);
+      if constexpr (kPositions) drifted += xk * 0.0;
+    }
+    if constexpr (kPositions && kDrift) x[k] = xk;
     v[k] = vk;
+    if constexpr (kKick) a[k] = ak;
   }
   return (kicked != 0.0 ? 1 : 0) | (drifted != 0.0 ? 2 : 0);
 }
@@ -200,35 +172,19 @@ namespace {
 // one and AVX2, chosen by forceKernelBuild(). Both give the same bits (every value is computed
 // alone, no fused multiply-add; the probe is a sum of zeros or NaN).
 
-[[gnu::always_inline]] inline int gearPredictBody(const FlatMotion& m, double dt, std::size_t b,
-                                                  std::size_t e) {
-  return m.x ? gearPredict<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e)
-             : gearPredict<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, dt, b, e);
+/// A Gear or Verlet loop over a FlatMotion, with or without positions.
+template <bool kCorrect, bool kPredict>
+[[gnu::always_inline]] inline int gearBody(const FlatMotion& m, const double* accel, double dt,
+                                           std::size_t b, std::size_t e) {
+  return m.x ? gearLoop<true, kCorrect, kPredict>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
+             : gearLoop<false, kCorrect, kPredict>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt,
+                                                   b, e);
 }
-[[gnu::always_inline]] inline int gearCorrectBody(const FlatMotion& m, const double* accel,
-                                                  double dt, std::size_t b, std::size_t e) {
-  return m.x ? gearCorrect<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
-             : gearCorrect<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
-}
-[[gnu::always_inline]] inline int verletDriftBody(const FlatMotion& m, double dt, std::size_t b,
-                                                  std::size_t e) {
-  return m.x ? verletDrift<true>(m.x, m.v, m.d2, dt, b, e)
-             : verletDrift<false>(nullptr, m.v, m.d2, dt, b, e);
-}
-[[gnu::always_inline]] inline int verletKickBody(const FlatMotion& m, const double* accel,
-                                                 double dt, std::size_t b, std::size_t e) {
-  return verletKick(m.v, m.d2, accel, dt, b, e);
-}
-
-[[gnu::always_inline]] inline int gearCorrectPredictBody(const FlatMotion& m, const double* accel,
-                                                         double dt, std::size_t b, std::size_t e) {
-  return m.x ? gearCorrectPredict<true>(m.x, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e)
-             : gearCorrectPredict<false>(nullptr, m.v, m.d2, m.d3, m.d4, m.d5, accel, dt, b, e);
-}
-[[gnu::always_inline]] inline int verletKickDriftBody(const FlatMotion& m, const double* accel,
-                                                      double dt, std::size_t b, std::size_t e) {
-  return m.x ? verletKickDrift<true>(m.x, m.v, m.d2, accel, dt, b, e)
-             : verletKickDrift<false>(nullptr, m.v, m.d2, accel, dt, b, e);
+template <bool kKick, bool kDrift>
+[[gnu::always_inline]] inline int verletBody(const FlatMotion& m, const double* accel, double dt,
+                                             std::size_t b, std::size_t e) {
+  return m.x ? verletLoop<true, kKick, kDrift>(m.x, m.v, m.d2, accel, dt, b, e)
+             : verletLoop<false, kKick, kDrift>(nullptr, m.v, m.d2, accel, dt, b, e);
 }
 
 /// a = F/m + g and dω/dt = T/I over particles [b, e), in place; the divisions in blocks that
@@ -290,31 +246,31 @@ auto dispatch(Args&&... args) {
 }  // namespace
 
 int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return dispatch<gearPredictBody>(m, dt, b, e);
+  return dispatch<gearBody<false, true>>(m, nullptr, dt, b, e);
 }
 
 int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                      std::size_t e) {
-  return dispatch<gearCorrectBody>(m, accel, dt, b, e);
+  return dispatch<gearBody<true, false>>(m, accel, dt, b, e);
 }
 
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return dispatch<verletDriftBody>(m, dt, b, e);
+  return dispatch<verletBody<false, true>>(m, nullptr, dt, b, e);
 }
 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e) {
-  return dispatch<verletKickBody>(m, accel, dt, b, e);
+  return dispatch<verletBody<true, false>>(m, accel, dt, b, e);
 }
 
 int gearCorrectPredictRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                             std::size_t e) {
-  return dispatch<gearCorrectPredictBody>(m, accel, dt, b, e);
+  return dispatch<gearBody<true, true>>(m, accel, dt, b, e);
 }
 
 int verletKickDriftRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                          std::size_t e) {
-  return dispatch<verletKickDriftBody>(m, accel, dt, b, e);
+  return dispatch<verletBody<true, true>>(m, accel, dt, b, e);
 }
 
 void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,

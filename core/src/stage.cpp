@@ -142,15 +142,19 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
+  auto progressDue = [&](std::uint64_t m) {
+    return observer.onProgress && observer.progressSteps > 0 && m % observer.progressSteps == 0;
+  };
+  auto checkpointDue = [&](std::uint64_t m) {
+    return observer.onCheckpoint && observer.checkpointSteps > 0 &&
+           m % observer.checkpointSteps == 0;
+  };
   // Whether anything looks at the state after step m: the steps before such a step run as one
   // batch (Simulation::run, whose steps predict the next one in their corrector's loop).
   auto seen = [&](std::uint64_t m) {
     const double t = double(m) * dt;
     return !(t + tolerance < stage.end.maxTime) || stage.end.kineticEnergyBelow.has_value() ||
-           clock.due(t) ||
-           (observer.onProgress && observer.progressSteps > 0 && m % observer.progressSteps == 0) ||
-           (observer.onCheckpoint && observer.checkpointSteps > 0 &&
-            m % observer.checkpointSteps == 0);
+           clock.due(t) || progressDue(m) || checkpointDue(m);
   };
   while (double(n) * dt + tolerance < stage.end.maxTime) {
     std::uint64_t batch = 1;
@@ -159,17 +163,12 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     n += batch;
     const double t = double(n) * dt;
     clock.observe(sim, t);
-    if (observer.onProgress && observer.progressSteps > 0 && n % observer.progressSteps == 0) {
-      observer.onProgress(sim, stage);
-    }
+    if (progressDue(n)) observer.onProgress(sim, stage);
     if (quiet(t)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
     }
-    if (observer.onCheckpoint && observer.checkpointSteps > 0 &&
-        n % observer.checkpointSteps == 0) {
-      observer.onCheckpoint(sim, StageProgress{n, belowSince});
-    }
+    if (checkpointDue(n)) observer.onCheckpoint(sim, StageProgress{n, belowSince});
   }
   result.steps = n;
   result.duration = double(n) * dt;
