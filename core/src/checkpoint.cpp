@@ -119,6 +119,9 @@ class Reader {
     }
   }
   bool atEnd() const { return pos_ == size_; }
+  [[noreturn]] void corrupted(const std::string& what) const {
+    throw CheckpointError(file_ + ": corrupted checkpoint: " + what);
+  }
 
  private:
   /// An element count, checked against what is left so a corrupted one cannot ask for terabytes.
@@ -167,14 +170,28 @@ void fields(Io& io, SimulationState& s) {
   NeighbourList& n = s.neighbours;
   // The file holds a spring per candidate pair (zero for those holding none): the layout in
   // memory (pair_springs.hpp) depends on the particle blocks, derived data built on loading.
+  // Likewise the first particle of each pair, which memory holds as rows.
   std::vector<TangentialHistory> history;
-  if constexpr (std::is_same_v<Io, Writer>) history = perPairSprings(n);
-  io(n.first), io(n.second), io(history), io(n.wallParticles), io(n.wallHistory);
+  std::vector<std::uint32_t> first;
+  if constexpr (std::is_same_v<Io, Writer>) {
+    history = perPairSprings(n);
+    first = firstOfPairs(n);
+  }
+  io(first), io(n.second), io(history), io(n.wallParticles), io(n.wallHistory);
   if constexpr (std::is_same_v<Io, Reader>) {
+    if (!rowsFromFirst(n, first, p.size())) io.corrupted("the pair list is not sorted");
+    std::vector<std::uint32_t>().swap(first);
     buildPairBlocks(n, p.size());
     layOutPairSprings(n, history);
   }
-  io(n.referencePosition), io(n.referenceWallPoint), io(n.skin), io(n.valid);
+  // The reference positions as doubles, as files before single precision held them.
+  std::vector<Vec3> reference;
+  if constexpr (std::is_same_v<Io, Writer>) {
+    reference.reserve(n.referencePosition.size());
+    for (const Eigen::Vector3f& x : n.referencePosition) reference.push_back(x.cast<double>());
+  }
+  io(reference), io(n.referenceWallPoint), io(n.skin), io(n.valid);
+  if constexpr (std::is_same_v<Io, Reader>) setReferencePositions(n, reference);
   ContactPowers& w = s.powers;
   io(w.elasticNormal), io(w.elasticTangential), io(w.normalDampingPower);
   io(w.tangentialDampingPower), io(w.tangentialPower), io(w.stiffnessWork), io(w.wallPower);

@@ -110,15 +110,17 @@ ChunkKernels kernels() {
 
 // ---- 1. Chunks of contacts in and out -----------------------------------------------------
 
-/// Writes pair k's slot, centre offset x_j - x_i and radii into entry m of the chunk; returns
-/// 1 if the spheres touch, else 0 (the entry is then overwritten by the next one).
+/// Writes pair k's slot and first particle i, centre offset x_j - x_i and radii into entry m of
+/// the chunk; returns 1 if the spheres touch, else 0 (the entry is then overwritten by the next
+/// one).
 [[gnu::always_inline]] inline std::size_t pickPair(const Particles& p, const NeighbourList& list,
-                                                   std::uint32_t k, ContactChunk& c,
-                                                   std::size_t m) {
-  const std::uint32_t i = list.first[k], j = list.second[k];
+                                                   std::uint32_t i, std::uint32_t k,
+                                                   ContactChunk& c, std::size_t m) {
+  const std::uint32_t j = list.second[k];
   const Vec3 d = p.position[j] - p.position[i];
   const double ri = p.radius[i], rj = p.radius[j], reach = ri + rj;
   c.slot[m] = k;
+  c.first[m] = i;
   c.dx[m] = d.x();
   c.dy[m] = d.y();
   c.dz[m] = d.z();
@@ -128,13 +130,19 @@ ChunkKernels kernels() {
 }
 
 /// Picks the touching pairs among the candidates [begin, begin + count) into the chunk (slot,
-/// offset and radii; loadPairs adds the rest); returns how many. Branch-free.
+/// particles, offset and radii; loadPairs adds the rest); returns how many. Branch-free; `rows`
+/// walks the list's rows, its next run starting at `begin`.
 inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
-                                     std::size_t begin, std::size_t count, ContactChunk& c) {
+                                     std::size_t begin, std::size_t count, RowWalker& rows,
+                                     ContactChunk& c) {
+  std::uint32_t starts[kChunk];
+  std::uint32_t i = rows.mark(begin, count, starts);
   std::size_t m = 0;
   for (std::size_t k = begin; k < begin + count; ++k) {
-    m += pickPair(p, list, static_cast<std::uint32_t>(k), c, m);
+    i += starts[k - begin];
+    m += pickPair(p, list, i, static_cast<std::uint32_t>(k), c, m);
   }
+  rows.reached(i);
   return m;
 }
 
@@ -168,8 +176,7 @@ template <bool kFriction, class SpringOf>
 void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m,
                SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t k = c.slot[e];
-    const std::uint32_t i = list.first[k], j = list.second[k];
+    const std::uint32_t i = c.first[e], j = list.second[c.slot[e]];
     const Vec3 v = p.velocity[i] - p.velocity[j];
     c.mi[e] = p.mass[i];
     c.mj[e] = p.mass[j];
@@ -299,10 +306,15 @@ void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
   }
   // Crossing pairs, by the thread of their first; then by the thread of their second.
   x.crossing.clear();
+  x.crossingFirst.clear();
   for (int t = 0; t < threads; ++t) {
     const std::uint32_t ownEnd = blockParticle[x.threadBlock[t + 1]];
-    for (std::uint32_t k = blockPair[x.threadBlock[t]]; k < blockPair[x.threadBlock[t + 1]]; ++k) {
-      if (list.second[k] >= ownEnd) x.crossing.push_back(k);
+    for (std::uint32_t i = blockParticle[x.threadBlock[t]]; i < ownEnd; ++i) {
+      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+        if (list.second[k] < ownEnd) continue;
+        x.crossing.push_back(k);
+        x.crossingFirst.push_back(i);
+      }
     }
   }
   x.incoming.resize(x.crossing.size());
@@ -416,7 +428,7 @@ class PlannedPass {
       for (std::size_t e = begin; e < begin + count; ++e) {
         const std::uint32_t q = plan_.incoming[e];
         at[m] = q;
-        m += pickPair(p_, list_, plan_.crossing[q], chunk, m);
+        m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], chunk, m);
       }
       loadPairs<kFriction>(p_, list_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
         return out_.crossingSpring[at[e]];
@@ -446,6 +458,7 @@ class PlannedPass {
       springs.start(list_.springs.block[b]);
       heldWord = list_.springs.held.data() + list_.blockWord[b];
     }
+    RowWalker rows(list_.rowStart, list_.blockParticle[b]);
     for (std::size_t begin = list_.blockPair[b]; begin < end; begin += kChunk) {
       const std::size_t count = std::min(kChunk, end - begin);
       std::size_t m = 0;
@@ -456,20 +469,24 @@ class PlannedPass {
         std::uint64_t heldNow = 0;  // a contact that opened forgets its spring
         const TangentialHistory* next = springs.source + (springs.read - springs.sourceOffset);
         std::size_t read = 0;
+        std::uint32_t starts[kChunk];
+        std::uint32_t i = rows.mark(begin, count, starts);
         for (std::size_t k = begin; k < begin + count; ++k) {
           const std::size_t bit = k - begin, holds = (heldBefore >> bit) & 1;
           spring[m] = holds ? next + read : &kNoSpring;
           read += holds;
-          const std::size_t touching = pickPair(p_, list_, static_cast<std::uint32_t>(k), chunk, m);
+          i += starts[bit];
+          const std::size_t touching = pickPair(p_, list_, i, static_cast<std::uint32_t>(k), chunk, m);
           heldNow |= std::uint64_t{touching} << bit;
           m += touching;
         }
+        rows.reached(i);
         *heldWord++ = heldNow;
         springs.read += read;
         loadPairs<kFriction>(p_, list_, chunk, m,
                              [&](std::size_t e) -> const TangentialHistory& { return *spring[e]; });
       } else {
-        m = pickTouchingPairs(p_, list_, begin, count, chunk);
+        m = pickTouchingPairs(p_, list_, begin, count, rows, chunk);
         loadPairs<kFriction>(p_, list_, chunk, m,
                              [](std::size_t) -> const TangentialHistory& { return kNoSpring; });
       }
@@ -484,12 +501,12 @@ class PlannedPass {
       std::uint32_t current = 0;
       Vec3 forceI = Vec3::Zero(), torqueI = Vec3::Zero();
       if (m > 0) {
-        current = list_.first[chunk.slot[0]];
+        current = chunk.first[0];
         forceI = s_.force[current];
         if constexpr (kFriction) torqueI = s_.torque[current];
       }
       for (std::size_t e = 0; e < m; ++e) {
-        const std::uint32_t i = list_.first[chunk.slot[e]], j = list_.second[chunk.slot[e]];
+        const std::uint32_t i = chunk.first[e], j = list_.second[chunk.slot[e]];
         if (i != current) {
           s_.force[current] = forceI;
           if constexpr (kFriction) s_.torque[current] = torqueI;
@@ -604,8 +621,11 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   }
   out.blockPowers.resize(blocks);
   out.blockReaction.resize(blocks * walls);
-  resizeScratch(s.force, n);
-  if constexpr (kFriction) resizeScratch(s.torque, n);
+  // Per particle, exactly: the particles do not come and go, so there is nothing to grow into.
+  if (s.force.size() != n) std::vector<Vec3>(n).swap(s.force);
+  if constexpr (kFriction) {
+    if (s.torque.size() != n) std::vector<Vec3>(n).swap(s.torque);
+  }
 
   out.springsSetAside.resize(static_cast<std::size_t>(threads));
   int broken = 0;
@@ -659,16 +679,18 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   force.assign(p.size(), Vec3::Zero());
   std::optional<SpringReader> springs;  // pairs come in ascending order
   if constexpr (kFriction) springs.emplace(list);
-  for (std::size_t begin = 0; begin < list.first.size(); begin += kChunk) {
-    const std::size_t count = std::min(kChunk, list.first.size() - begin);
-    const std::size_t m = pickTouchingPairs(p, list, begin, count, chunk);
+  RowWalker rows(list.rowStart, 0);
+  const std::size_t pairs = list.second.size();
+  for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
+    const std::size_t count = std::min(kChunk, pairs - begin);
+    const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
     loadPairs<kFriction>(p, list, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
       return springs->at(chunk.slot[e]);
     });
     kern.geometry(chunk, m, kFriction);
     kern.law(c, chunk, m, kFriction, kLaw, false);
     for (std::size_t e = 0; e < m; ++e) {
-      const std::uint32_t i = list.first[chunk.slot[e]], j = list.second[chunk.slot[e]];
+      const std::uint32_t i = chunk.first[e], j = list.second[chunk.slot[e]];
       const Vec3 f = forceOf(chunk, e);
       force[i] += f;
       force[j] -= f;

@@ -70,18 +70,22 @@ CellGrid binParticles(const Particles& p, double reach) {
   grid.inverseCellSize = 1.0 / grid.cellSize;
   const std::size_t cellCount =
       static_cast<std::size_t>(grid.dims[0] * grid.dims[1] * grid.dims[2]);
-  std::vector<std::uint32_t> cellOf(n);
-  grid.cellStart.assign(cellCount + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
+  // A counting sort with no array beside the grid's own (a rebuild's transient memory): each
+  // cell's count, their running sums (cellStart[c] = the end of cell c), then the particles
+  // placed from the end of their cell backwards, which leaves cellStart[c] at its start and
+  // each cell in ascending index. The cell of a particle is computed twice rather than kept.
+  auto cellOf = [&](std::size_t i) {
     const Vec3& x = p.position[i];
-    cellOf[i] = static_cast<std::uint32_t>(
+    return static_cast<std::size_t>(
         grid.cellIndex(grid.cellCoord(x[0], 0), grid.cellCoord(x[1], 1), grid.cellCoord(x[2], 2)));
-    ++grid.cellStart[cellOf[i] + 1];
-  }
-  for (std::size_t c = 0; c < cellCount; ++c) grid.cellStart[c + 1] += grid.cellStart[c];
+  };
+  grid.cellStart.assign(cellCount + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) ++grid.cellStart[cellOf(i)];
+  for (std::size_t c = 1; c <= cellCount; ++c) grid.cellStart[c] += grid.cellStart[c - 1];
   grid.items.resize(n);
-  std::vector<std::uint32_t> fill(grid.cellStart.begin(), grid.cellStart.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) grid.items[fill[cellOf[i]]++] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = n; i-- > 0;) {
+    grid.items[--grid.cellStart[cellOf(i)]] = static_cast<std::uint32_t>(i);
+  }
   return grid;
 }
 
@@ -145,11 +149,10 @@ void carryWallHistory(const std::vector<std::uint32_t>& oldList,
 /// threads and of the springs' storage.
 constexpr std::size_t kBlockPairs = 512, kBlockParticles = 512;
 
-/// Particle blocks for n particles and the pairs' first particles (ascending).
-void pairBlocks(const std::vector<std::uint32_t>& first, std::size_t n,
+/// Particle blocks for n particles and the list's rows (n + 1 entries, or none: no pairs).
+void pairBlocks(const std::vector<std::uint32_t>& rowStart, std::size_t n,
                 std::vector<std::uint32_t>& blockParticle, std::vector<std::uint32_t>& blockPair,
                 std::vector<std::uint32_t>& blockWord) {
-  const std::size_t pairs = first.size();
   blockParticle.assign(1, 0);
   blockPair.assign(1, 0);
   blockWord.assign(1, 0);
@@ -157,7 +160,7 @@ void pairBlocks(const std::vector<std::uint32_t>& first, std::size_t n,
     const std::size_t particleBegin = i, pairBegin = k;
     while (i < n && i - particleBegin < kBlockParticles && k - pairBegin < kBlockPairs) {
       ++i;
-      while (k < pairs && first[k] < i) ++k;
+      k = rowStart.empty() ? 0 : rowStart[i];
     }
     blockParticle.push_back(static_cast<std::uint32_t>(i));
     blockPair.push_back(static_cast<std::uint32_t>(k));
@@ -168,7 +171,28 @@ void pairBlocks(const std::vector<std::uint32_t>& first, std::size_t n,
 }  // namespace
 
 void buildPairBlocks(NeighbourList& list, std::size_t n) {
-  pairBlocks(list.first, n, list.blockParticle, list.blockPair, list.blockWord);
+  pairBlocks(list.rowStart, n, list.blockParticle, list.blockPair, list.blockWord);
+}
+
+bool rowsFromFirst(NeighbourList& list, const std::vector<std::uint32_t>& first, std::size_t n) {
+  list.rowStart.clear();
+  std::vector<std::uint32_t> rows(n + 1, 0);
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    if (first[k] >= n || (k > 0 && first[k] < first[k - 1])) return false;
+    ++rows[first[k] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) rows[i + 1] += rows[i];
+  list.rowStart = std::move(rows);
+  return true;
+}
+
+std::vector<std::uint32_t> firstOfPairs(const NeighbourList& list) {
+  std::vector<std::uint32_t> first(list.second.size());
+  for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
+    std::fill(first.begin() + list.rowStart[i], first.begin() + list.rowStart[i + 1],
+              static_cast<std::uint32_t>(i));
+  }
+  return first;
 }
 
 // ---- Rebuild ------------------------------------------------------------------------------
@@ -181,45 +205,40 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
 
   // Two passes over the same search, count then fill, so the list is allocated once at its
   // exact size (no per-thread buffers growing by doubling: at 10⁶ particles those transients
-  // were the peak of the run's memory). Each particle's partners land in a range fixed by the
+  // were the peak of the run's memory). Each particle's partners land in its row, fixed by the
   // prefix sums, sorted by j, so the list is the same for any thread count.
-  std::vector<std::uint32_t> first, second;
+  std::vector<std::uint32_t> rowStart(n + 1, 0), second;
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
     const int teams = threads > 0 ? threads : omp_get_max_threads();
     if (teams == 1 && !list.second.empty()) {
-      // One search, appending into the old list's size + 1/8, reserved for both arrays: they
-      // grow by doubling (a transient the peak memory would show) only if the list outgrows
-      // that between two rebuilds. The first build counts first, as several threads do.
-      const std::size_t expected = list.second.size() + list.second.size() / 8 + 16;
-      first.reserve(expected);
-      second.reserve(expected);
+      // One search, appending into the old list's size + 1/8: the array grows by doubling (a
+      // transient the peak memory would show) only if the list outgrows that between two
+      // rebuilds. The first build counts first, as several threads do.
+      second.reserve(list.second.size() + list.second.size() / 8 + 16);
       std::vector<std::uint32_t> found;
       for (std::size_t i = 0; i < n; ++i) {
         const std::size_t count = partnersOf(grid, p, skin, i, found);
         second.insert(second.end(), found.begin(), found.begin() + std::ptrdiff_t(count));
-        first.resize(second.size(), static_cast<std::uint32_t>(i));
+        rowStart[i + 1] = static_cast<std::uint32_t>(second.size());
       }
     } else {
-      std::vector<std::uint32_t> start(n + 1, 0);
 #pragma omp parallel num_threads(teams)
       {
         std::vector<std::uint32_t> found;
 #pragma omp for schedule(static)
         for (std::size_t i = 0; i < n; ++i) {
-          start[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, skin, i, found));
+          rowStart[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, skin, i, found));
         }
 #pragma omp single
         {
-          for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-          first.resize(start[n]);
-          second.resize(start[n]);
+          for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
+          second.resize(rowStart[n]);
         }
 #pragma omp for schedule(static)
         for (std::size_t i = 0; i < n; ++i) {
           const std::size_t count = partnersOf(grid, p, skin, i, found);
-          std::copy_n(found.begin(), count, second.begin() + start[i]);
-          std::fill_n(first.begin() + start[i], count, static_cast<std::uint32_t>(i));
+          std::copy_n(found.begin(), count, second.begin() + rowStart[i]);
         }
       }
     }
@@ -235,9 +254,9 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   }
 
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
-  pairBlocks(first, n, blockParticle, blockPair, blockWord);
+  pairBlocks(rowStart, n, blockParticle, blockPair, blockWord);
   if (keepHistory) {
-    list.springs = carryPairSprings(list, first, second, blockPair, blockWord);
+    list.springs = carryPairSprings(list, rowStart, second, blockPair, blockWord);
     list.wallHistory.resize(walls.size());
     std::vector<std::vector<TangentialHistory>> wallHistory(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) {
@@ -252,13 +271,13 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   } else {
     list.springs = PairSprings{};
   }
-  list.first = std::move(first);
+  list.rowStart = std::move(rowStart);
   list.second = std::move(second);
   list.blockParticle = std::move(blockParticle);
   list.blockPair = std::move(blockPair);
   list.blockWord = std::move(blockWord);
   list.wallParticles = std::move(wallParticles);
-  list.referencePosition = p.position;
+  setReferencePositions(list, p.position);
   list.referenceWallPoint.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallPoint[w] = walls[w].point;
   list.valid = true;
@@ -267,12 +286,33 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
 
 // ---- Staleness ----------------------------------------------------------------------------
 
+void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& position) {
+  const std::size_t n = position.size();
+  if (list.referencePosition.size() != n) {
+    std::vector<Eigen::Vector3f>(n).swap(list.referencePosition);  // exactly n
+  }
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f x = position[i].cast<float>();
+    list.referencePosition[i] = x;
+    largest = std::max(largest, x.cwiseAbs().maxCoeff());  // NaN ignored: the step reports it
+  }
+  // Rounding to nearest moves a coordinate by at most 2⁻²⁴ of its magnitude (its rounded one,
+  // slightly more for safety), or 2⁻¹⁵⁰ below the normal range; three coordinates √3 times
+  // that. A position beyond the float range rounds to infinity: every later move measures
+  // infinite and the list is rebuilt each step, which is slow but never wrong.
+  const double perCoordinate = std::ldexp(static_cast<double>(largest), -24) * (1.0 + 1e-6) +
+                               std::ldexp(1.0, -149);
+  list.referenceRounding = std::sqrt(3.0) * perCoordinate;
+}
+
 double largestMove2(const NeighbourList& list, const Particles& p, std::size_t begin,
                     std::size_t end) {
   if (list.referencePosition.size() != p.size()) return 0.0;  // the list is stale anyway
   double move2 = 0.0;
   for (std::size_t i = begin; i < end; ++i) {
-    move2 = std::max(move2, (p.position[i] - list.referencePosition[i]).squaredNorm());
+    move2 = std::max(move2,
+                     (p.position[i] - list.referencePosition[i].cast<double>()).squaredNorm());
   }
   return move2;
 }
@@ -284,8 +324,9 @@ bool neighbourListStale(const NeighbourList& list, const Particles& p,
     return true;
   }
   // Two particles approach by at most twice the largest displacement; a particle and a wall by
-  // the particle's displacement plus the wall's.
-  const double maxMove = std::sqrt(maxMove2);
+  // the particle's displacement plus the wall's. Displacements are measured from the rounded
+  // reference positions, so each may be short by their rounding.
+  const double maxMove = std::sqrt(maxMove2) + list.referenceRounding;
   if (2.0 * maxMove >= list.skin) return true;
   for (std::size_t w = 0; w < walls.size(); ++w) {
     const double wallMove =

@@ -14,10 +14,22 @@ void fillBlock(std::vector<TangentialHistory>& block, const std::vector<Tangenti
   block.assign(found.begin(), found.end());
 }
 
-std::uint64_t keyOf(const std::vector<std::uint32_t>& first,
-                    const std::vector<std::uint32_t>& second, std::size_t k) {
-  return (std::uint64_t{first[k]} << 32) | second[k];
-}
+/// Pairs in ascending order with their keys (first << 32 | second), walking the list's rows.
+class PairKeys {
+ public:
+  PairKeys(const std::vector<std::uint32_t>& rowStart, const std::vector<std::uint32_t>& second)
+      : rowStart_(rowStart), second_(second) {}
+  /// The key of pair k, k not below the last asked for.
+  std::uint64_t at(std::size_t k) {
+    while (rowStart_[row_ + 1] <= k) ++row_;
+    return (std::uint64_t{row_} << 32) | second_[k];
+  }
+
+ private:
+  const std::vector<std::uint32_t>& rowStart_;
+  const std::vector<std::uint32_t>& second_;
+  std::uint32_t row_ = 0;
+};
 
 /// Whether pair k of block b (k in the block) holds a spring.
 bool holds(const std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>& blockPair,
@@ -36,7 +48,7 @@ void setHeld(std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>&
 
 std::vector<TangentialHistory> perPairSprings(const NeighbourList& list) {
   if (list.springs.held.empty() || list.springs.block.empty()) return {};
-  std::vector<TangentialHistory> perPair(list.first.size());
+  std::vector<TangentialHistory> perPair(list.second.size());
   SpringReader reader(list);
   for (std::size_t k = 0; k < perPair.size(); ++k) perPair[k] = reader.at(k);
   return perPair;
@@ -45,7 +57,7 @@ std::vector<TangentialHistory> perPairSprings(const NeighbourList& list) {
 void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair) {
   PairSprings& springs = list.springs;
   springs = PairSprings{};
-  if (perPair.size() != list.first.size()) {
+  if (perPair.size() != list.second.size() || list.blockPair.back() != perPair.size()) {
     springs.held.assign(perPair.size(), 0);
     return;
   }
@@ -64,7 +76,7 @@ void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>
   }
 }
 
-PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& first,
+PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& rowStart,
                              const std::vector<std::uint32_t>& second,
                              const std::vector<std::uint32_t>& blockPair,
                              const std::vector<std::uint32_t>& blockWord) {
@@ -75,8 +87,10 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
   PairSprings& from = old.springs;
   const bool oldHolds = !from.block.empty() && !old.blockWord.empty() &&
                         from.held.size() == old.blockWord.back() &&
-                        old.blockPair.back() == old.first.size();
-  const std::size_t oldPairs = oldHolds ? old.first.size() : 0;
+                        old.blockPair.back() == old.second.size() &&
+                        !old.rowStart.empty();
+  const std::size_t oldPairs = oldHolds ? old.second.size() : 0;
+  PairKeys oldKeys(old.rowStart, old.second), newKeys(rowStart, second);
   // The old list's walk: pair a, its block, and the index of a's spring in that block.
   std::size_t a = 0, oldBlock = 0, index = 0;
   auto skipPassedBlocks = [&] {
@@ -92,13 +106,13 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
   for (std::size_t b = 0; b < blocks; ++b) {
     found.clear();
     for (std::size_t k = blockPair[b]; k < blockPair[b + 1]; ++k) {
-      const std::uint64_t key = keyOf(first, second, k);
-      while (a < oldPairs && keyOf(old.first, old.second, a) < key) {
+      const std::uint64_t key = newKeys.at(k);
+      while (a < oldPairs && oldKeys.at(a) < key) {
         index += oldHeld() ? 1 : 0;
         ++a;
         skipPassedBlocks();
       }
-      if (a < oldPairs && keyOf(old.first, old.second, a) == key && oldHeld()) {
+      if (a < oldPairs && oldKeys.at(a) == key && oldHeld()) {
         setHeld(out.held, blockPair, blockWord, b, k);
         found.push_back(from.block[oldBlock][index]);
       }

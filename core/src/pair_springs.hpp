@@ -68,10 +68,10 @@ std::vector<TangentialHistory> perPairSprings(const NeighbourList& list);
 /// per given spring and no block (the state checks report a mismatch on a frictional path).
 void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair);
 
-/// The springs of the pairs of `old` that are also in the new list (first, second, sorted, with
-/// its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays as
-/// it passes them, so that the old and the new springs are not held whole at once.
-PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& first,
+/// The springs of the pairs of `old` that are also in the new list (rowStart, second, sorted,
+/// with its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays
+/// as it passes them, so that the old and the new springs are not held whole at once.
+PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& rowStart,
                              const std::vector<std::uint32_t>& second,
                              const std::vector<std::uint32_t>& blockPair,
                              const std::vector<std::uint32_t>& blockWord);

@@ -324,7 +324,7 @@ void advance(SimulationState& s, bool predictNext) {
   for (Wall& w : s.walls) w.impulse += w.reaction * dt;
   s.counters.particleContacts = now.particleContacts;
   s.counters.wallContacts = now.wallContacts;
-  s.counters.neighbourPairs = s.neighbours.first.size();
+  s.counters.neighbourPairs = s.neighbours.second.size();
   s.counters.tangentialEvaluations += now.tangentialEvaluations;
 }
 
@@ -446,7 +446,7 @@ void Simulation::setMaterial(const Material& material) {
     }
     // A list built for the other path holds no springs (or ones no longer wanted): start anew.
     NeighbourList& list = s.neighbours;
-    for (std::vector<std::uint32_t>* v : {&list.first, &list.second}) v->clear();
+    for (std::vector<std::uint32_t>* v : {&list.rowStart, &list.second}) v->clear();
     list.springs = PairSprings{};
     list.wallParticles.clear();
     list.wallHistory.clear();
@@ -574,12 +574,13 @@ MemoryUse Simulation::memoryUse() const {
     m.integrator += bytes(d->d2) + bytes(d->d3) + bytes(d->d4) + bytes(d->d5);
   }
   const NeighbourList& l = s.neighbours;
-  m.neighbours = bytes(l.first) + bytes(l.second) + bytes(l.wallParticles) +
+  m.neighbours = bytes(l.rowStart) + bytes(l.second) + bytes(l.wallParticles) +
                  bytes(l.referencePosition) + bytes(l.referenceWallPoint);
   m.history = bytes(l.springs.held) + bytes(l.springs.block) + bytes(l.wallHistory);
   const ForcePlan& x = l.plan;
   m.forcePlan = bytes(l.blockParticle) + bytes(l.blockPair) + bytes(l.blockWord) +
-                bytes(x.blockWall) + bytes(x.threadBlock) + bytes(x.crossing) + bytes(x.incoming) +
+                bytes(x.blockWall) + bytes(x.threadBlock) + bytes(x.crossing) +
+                bytes(x.crossingFirst) + bytes(x.incoming) +
                 bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
   m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +

@@ -4,6 +4,7 @@
 ///   2. integrator derivatives
 ///   3. energy accumulators
 ///   4. SimulationState itself
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -39,7 +40,7 @@ struct TangentialHistory {
 struct ForcePlan {
   std::vector<std::uint32_t> blockWall;
   std::vector<std::uint32_t> threadBlock;
-  std::vector<std::uint32_t> crossing, incoming, incomingStart;
+  std::vector<std::uint32_t> crossing, crossingFirst, incoming, incomingStart;
   int threads = 0;
   bool valid = false;  ///< built for the current lists and `threads`
 };
@@ -62,21 +63,29 @@ struct PairSprings {
 
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
 /// than the skin allows. Pairs are sorted by (first, second) so that the history of a pair can be
-/// carried to the rebuilt list by a merge, without hashing.
+/// carried to the rebuilt list by a merge, without hashing. The first particles are stored as
+/// compressed rows: the pairs (i, j) of particle i, j > i, are [rowStart[i], rowStart[i+1]) with
+/// j = second[k]: 4 bytes a particle instead of 4 a pair (≈ 5 pairs a particle in a dense bed),
+/// both in the list and in the transient of a rebuild, which holds the old list beside the new.
 ///
 /// Particle blocks are runs of consecutive particles [blockParticle[b], blockParticle[b+1]) with
 /// their pairs [blockPair[b], blockPair[b+1]) (buildPairBlocks, built with the list): the unit of
 /// the force pass's work and of its ordered sums, and of the springs' storage (blockWord: the
 /// first word of the block's bits in PairSprings::held).
 struct NeighbourList {
-  std::vector<std::uint32_t> first;   ///< i of each candidate pair (i < j)
-  std::vector<std::uint32_t> second;  ///< j of each candidate pair
+  std::vector<std::uint32_t> rowStart;  ///< n + 1 entries: particle i's pairs (empty: no list)
+  std::vector<std::uint32_t> second;    ///< j of each candidate pair
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
   PairSprings springs;  ///< empty on the frictionless path
   /// Per wall: candidate particles (sorted) and their tangential history.
   std::vector<std::vector<std::uint32_t>> wallParticles;
   std::vector<std::vector<TangentialHistory>> wallHistory;
-  std::vector<Vec3> referencePosition;   ///< particle positions at the last build [m]
+  /// Particle positions at the last build, rounded to single precision [m]: half the memory of
+  /// doubles, the one array a list has per particle. The staleness test adds the rounding's
+  /// bound, referenceRounding, to the largest move it measures from them, so that it never
+  /// misses a contact.
+  std::vector<Eigen::Vector3f> referencePosition;
+  double referenceRounding = 0.0;  ///< bound on |reference - position at the build| [m]
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
   double skin = 0.0;                     ///< [m]
   bool valid = false;
@@ -85,6 +94,49 @@ struct NeighbourList {
 
 /// Splits n particles and the list's pairs into particle blocks (NeighbourList::blockParticle).
 void buildPairBlocks(NeighbourList& list, std::size_t n);
+/// The list's rows from the first particle of each pair (the checkpoint's layout) for n
+/// particles; false (rows left empty) unless `first` ascends and every entry is below n.
+bool rowsFromFirst(NeighbourList& list, const std::vector<std::uint32_t>& first, std::size_t n);
+/// The first particle of each pair, the inverse of rowsFromFirst.
+std::vector<std::uint32_t> firstOfPairs(const NeighbourList& list);
+
+/// Walks a list's rows over consecutive runs of pairs, from a particle's first pair on, giving
+/// each pair's first particle without a branch per pair: the rows that start in a run are
+/// counted at their first pair, and a pair's particle is the previous pair's plus that count
+/// (rows with no pairs start where the next one does). Use:
+///   std::uint32_t i = walker.mark(begin, count, starts);
+///   for (e = 0; e < count; ++e) { i += starts[e]; ... pair begin + e is (i, second[..]) ... }
+///   walker.reached(i);
+class RowWalker {
+ public:
+  /// From the first pair of `particle` (rowStart[particle]) on.
+  RowWalker(const std::vector<std::uint32_t>& rowStart, std::size_t particle)
+      : rowStart_(rowStart.data()),
+        row_(static_cast<std::uint32_t>(particle)),
+        last_(static_cast<std::uint32_t>(particle) - 1U) {}
+  /// For the next run of pairs [begin, begin + count) (the first run starts at the walker's
+  /// particle's first pair): starts[e] = the rows starting at pair begin + e. Returns the
+  /// particle before the run's first pair's (unsigned: it wraps before particle 0).
+  std::uint32_t mark(std::size_t begin, std::size_t count, std::uint32_t* starts) {
+    std::fill_n(starts, count, 0U);
+    const std::uint32_t end = static_cast<std::uint32_t>(begin + count);
+    std::uint32_t row = row_;  // a local: stores to `starts` could alias the members
+    // rowStart[n] is the pair count, so the walk ends there at the latest.
+    for (; rowStart_[row] < end; ++row) ++starts[rowStart_[row] - begin];
+    row_ = row;
+    return last_;
+  }
+  /// The particle of the run's last pair, where the next run goes on.
+  void reached(std::uint32_t particle) { last_ = particle; }
+
+ private:
+  const std::uint32_t* rowStart_;
+  std::uint32_t row_;   ///< the next row whose start is not yet counted
+  std::uint32_t last_;  ///< the particle of the last pair of the last run
+};
+/// Sets the list's reference positions to `position` rounded to single precision, and their
+/// rounding bound referenceRounding.
+void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& position);
 /// Builds the list for the current positions, carrying tangential history of surviving pairs.
 /// The candidate search runs on `threads` threads (0: OpenMP's default); the list is the same
 /// for any count.

@@ -135,15 +135,22 @@ void checkHistory(const Checker& c, const std::vector<TangentialHistory>& histor
 void checkNeighbours(const Checker& c, const SimulationState& s) {
   const NeighbourList& list = s.neighbours;
   const std::size_t n = s.particles.size();
-  const std::size_t pairs = list.first.size();
-  c.sized(list.second, pairs, "pair list (second)");
-  for (std::size_t k = 0; k < pairs; ++k) {
-    c.require(list.first[k] < list.second[k] && list.second[k] < n,
-              "pair " + std::to_string(k) + " indexes particles out of range or out of order");
-    // Sorted by (first, second) without repeats: the history merge and the gather rely on it.
-    c.require(k == 0 || list.first[k - 1] < list.first[k] ||
-                  (list.first[k - 1] == list.first[k] && list.second[k - 1] < list.second[k]),
-              "pair list is not sorted");
+  const std::size_t pairs = list.second.size();
+  c.require(list.rowStart.empty() ? pairs == 0
+                                  : list.rowStart.size() == n + 1 && list.rowStart.front() == 0 &&
+                                        list.rowStart.back() == pairs,
+            "pair list rows do not cover the pairs");
+  for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
+    c.require(list.rowStart[i] <= list.rowStart[i + 1], "pair list is not sorted");
+  }
+  for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
+    for (std::size_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+      c.require(i < list.second[k] && list.second[k] < n,
+                "pair " + std::to_string(k) + " indexes particles out of range or out of order");
+      // Sorted by (first, second) without repeats: the history merge and the gather rely on it.
+      c.require(k == list.rowStart[i] || list.second[k - 1] < list.second[k],
+                "pair list is not sorted");
+    }
   }
   // The particle blocks (derived from the list on loading) and the springs laid out in them.
   const std::size_t blocks = list.blockParticle.size() - 1;
@@ -180,7 +187,11 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
           "reference positions");
   c.sized(list.referenceWallPoint, list.valid ? walls : list.referenceWallPoint.size(),
           "reference wall points");
-  for (const Vec3& x : list.referencePosition) c.finite(x, "a reference position");
+  // Infinite is allowed: a position beyond the single-precision range rounds to it (and keeps
+  // the list rebuilt every step, neighbour_list.cpp).
+  for (const Eigen::Vector3f& x : list.referencePosition) {
+    c.require(!x.hasNaN(), "a reference position is NaN");
+  }
   for (const Vec3& x : list.referenceWallPoint) c.finite(x, "a reference wall point");
   c.nonNegative(list.skin, "skin");
 }
