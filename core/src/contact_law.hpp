@@ -44,7 +44,7 @@ constexpr std::size_t kChunk = 64;
 struct ContactChunk {
   std::uint32_t slot[kChunk];   ///< the contact's index in the list it came from
   std::uint32_t first[kChunk];  ///< pairs: the first particle i
-  std::uint32_t wall[kChunk];  ///< wall contacts: the wall
+  std::uint32_t wall[kChunk];   ///< wall contacts: the wall
   // Raw pair data (pairGeometry's input): centre offset x_j - x_i, radii, masses, angular
   // velocities.
   alignas(64) double dx[kChunk], dy[kChunk], dz[kChunk];

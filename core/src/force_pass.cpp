@@ -476,7 +476,8 @@ class PlannedPass {
           spring[m] = holds ? next + read : &kNoSpring;
           read += holds;
           i += starts[bit];
-          const std::size_t touching = pickPair(p_, list_, i, static_cast<std::uint32_t>(k), chunk, m);
+          const std::size_t touching =
+              pickPair(p_, list_, i, static_cast<std::uint32_t>(k), chunk, m);
           heldNow |= std::uint64_t{touching} << bit;
           m += touching;
         }

@@ -301,8 +301,8 @@ void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& positio
   // slightly more for safety), or 2⁻¹⁵⁰ below the normal range; three coordinates √3 times
   // that. A position beyond the float range rounds to infinity: every later move measures
   // infinite and the list is rebuilt each step, which is slow but never wrong.
-  const double perCoordinate = std::ldexp(static_cast<double>(largest), -24) * (1.0 + 1e-6) +
-                               std::ldexp(1.0, -149);
+  const double perCoordinate =
+      std::ldexp(static_cast<double>(largest), -24) * (1.0 + 1e-6) + std::ldexp(1.0, -149);
   list.referenceRounding = std::sqrt(3.0) * perCoordinate;
 }
 
@@ -311,8 +311,8 @@ double largestMove2(const NeighbourList& list, const Particles& p, std::size_t b
   if (list.referencePosition.size() != p.size()) return 0.0;  // the list is stale anyway
   double move2 = 0.0;
   for (std::size_t i = begin; i < end; ++i) {
-    move2 = std::max(move2,
-                     (p.position[i] - list.referencePosition[i].cast<double>()).squaredNorm());
+    move2 =
+        std::max(move2, (p.position[i] - list.referencePosition[i].cast<double>()).squaredNorm());
   }
   return move2;
 }

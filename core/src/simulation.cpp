@@ -580,8 +580,7 @@ MemoryUse Simulation::memoryUse() const {
   const ForcePlan& x = l.plan;
   m.forcePlan = bytes(l.blockParticle) + bytes(l.blockPair) + bytes(l.blockWord) +
                 bytes(x.blockWall) + bytes(x.threadBlock) + bytes(x.crossing) +
-                bytes(x.crossingFirst) + bytes(x.incoming) +
-                bytes(x.incomingStart);
+                bytes(x.crossingFirst) + bytes(x.incoming) + bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
   m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +
               bytes(c.blockReaction);

@@ -85,7 +85,7 @@ struct NeighbourList {
   /// bound, referenceRounding, to the largest move it measures from them, so that it never
   /// misses a contact.
   std::vector<Eigen::Vector3f> referencePosition;
-  double referenceRounding = 0.0;  ///< bound on |reference - position at the build| [m]
+  double referenceRounding = 0.0;        ///< bound on |reference - position at the build| [m]
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
   double skin = 0.0;                     ///< [m]
   bool valid = false;
