@@ -32,10 +32,10 @@ std::vector<std::uint32_t> walked(const Rows& r, std::size_t from, std::size_t r
   std::vector<std::uint32_t> out;
   RowWalker walker(r.rowStart, from);
   const std::size_t end = r.rowStart.back();
-  std::vector<std::uint32_t> starts(run);
+  std::uint32_t starts[RowWalker::kMaxRun];
   for (std::size_t begin = r.rowStart[from]; begin < end; begin += run) {
     const std::size_t count = std::min(run, end - begin);
-    std::uint32_t i = walker.mark(begin, count, starts.data());
+    std::uint32_t i = walker.mark(begin, count, starts);
     for (std::size_t e = 0; e < count; ++e) out.push_back(i += starts[e]);
     walker.reached(i);
   }

@@ -42,9 +42,10 @@ constexpr std::size_t kChunk = 64;
 /// (pairs: the raw columns then `pairGeometry`; walls: the geometry directly); `contactLaw`
 /// fills the outputs and, when it advances, the new spring.
 struct ContactChunk {
-  std::uint32_t slot[kChunk];   ///< the contact's index in the list it came from
-  std::uint32_t first[kChunk];  ///< pairs: the first particle i
-  std::uint32_t wall[kChunk];   ///< wall contacts: the wall
+  std::uint32_t slot[kChunk];    ///< the contact's index in the list it came from
+  std::uint32_t first[kChunk];   ///< pairs: the first particle i
+  std::uint32_t second[kChunk];  ///< pairs: the second particle j
+  std::uint32_t wall[kChunk];    ///< wall contacts: the wall
   // Raw pair data (pairGeometry's input): centre offset x_j - x_i, radii, masses, angular
   // velocities.
   alignas(64) double dx[kChunk], dy[kChunk], dz[kChunk];

@@ -110,9 +110,9 @@ ChunkKernels kernels() {
 
 // ---- 1. Chunks of contacts in and out -----------------------------------------------------
 
-/// Writes pair k's slot and first particle i, centre offset x_j - x_i and radii into entry m of
+/// Writes pair k's slot and particles i and j, centre offset x_j - x_i and radii into entry m of
 /// the chunk; returns 1 if the spheres touch, else 0 (the entry is then overwritten by the next
-/// one).
+/// one). The particles kept in the chunk spare the later loops a load through the slot.
 [[gnu::always_inline]] inline std::size_t pickPair(const Particles& p, const NeighbourList& list,
                                                    std::uint32_t i, std::uint32_t k,
                                                    ContactChunk& c, std::size_t m) {
@@ -121,6 +121,7 @@ ChunkKernels kernels() {
   const double ri = p.radius[i], rj = p.radius[j], reach = ri + rj;
   c.slot[m] = k;
   c.first[m] = i;
+  c.second[m] = j;
   c.dx[m] = d.x();
   c.dy[m] = d.y();
   c.dz[m] = d.z();
@@ -135,7 +136,7 @@ ChunkKernels kernels() {
 inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
                                      std::size_t begin, std::size_t count, RowWalker& rows,
                                      ContactChunk& c) {
-  std::uint32_t starts[kChunk];
+  std::uint32_t starts[RowWalker::kMaxRun];
   std::uint32_t i = rows.mark(begin, count, starts);
   std::size_t m = 0;
   for (std::size_t k = begin; k < begin + count; ++k) {
@@ -173,10 +174,9 @@ inline void loadSpring(const TangentialHistory& spring, ContactChunk& c, std::si
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
 /// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
 template <bool kFriction, class SpringOf>
-void loadPairs(const Particles& p, const NeighbourList& list, ContactChunk& c, std::size_t m,
-               SpringOf&& springOf) {
+void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t i = c.first[e], j = list.second[c.slot[e]];
+    const std::uint32_t i = c.first[e], j = c.second[e];
     const Vec3 v = p.velocity[i] - p.velocity[j];
     c.mi[e] = p.mass[i];
     c.mj[e] = p.mass[j];
@@ -430,13 +430,13 @@ class PlannedPass {
         at[m] = q;
         m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], chunk, m);
       }
-      loadPairs<kFriction>(p_, list_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+      loadPairs<kFriction>(p_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
         return out_.crossingSpring[at[e]];
       });
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true);
       for (std::size_t e = 0; e < m; ++e) {
-        const std::uint32_t j = list_.second[chunk.slot[e]];
+        const std::uint32_t j = chunk.second[e];
         s_.force[j] -= forceOf(chunk, e);
         if constexpr (kFriction) {
           s_.torque[j] += chunk.armJ[e] * Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
@@ -469,7 +469,7 @@ class PlannedPass {
         std::uint64_t heldNow = 0;  // a contact that opened forgets its spring
         const TangentialHistory* next = springs.source + (springs.read - springs.sourceOffset);
         std::size_t read = 0;
-        std::uint32_t starts[kChunk];
+        std::uint32_t starts[RowWalker::kMaxRun];
         std::uint32_t i = rows.mark(begin, count, starts);
         for (std::size_t k = begin; k < begin + count; ++k) {
           const std::size_t bit = k - begin, holds = (heldBefore >> bit) & 1;
@@ -484,11 +484,11 @@ class PlannedPass {
         rows.reached(i);
         *heldWord++ = heldNow;
         springs.read += read;
-        loadPairs<kFriction>(p_, list_, chunk, m,
+        loadPairs<kFriction>(p_, chunk, m,
                              [&](std::size_t e) -> const TangentialHistory& { return *spring[e]; });
       } else {
         m = pickTouchingPairs(p_, list_, begin, count, rows, chunk);
-        loadPairs<kFriction>(p_, list_, chunk, m,
+        loadPairs<kFriction>(p_, chunk, m,
                              [](std::size_t) -> const TangentialHistory& { return kNoSpring; });
       }
       kern_.geometry(chunk, m, kFriction);
@@ -507,7 +507,7 @@ class PlannedPass {
         if constexpr (kFriction) torqueI = s_.torque[current];
       }
       for (std::size_t e = 0; e < m; ++e) {
-        const std::uint32_t i = chunk.first[e], j = list_.second[chunk.slot[e]];
+        const std::uint32_t i = chunk.first[e], j = chunk.second[e];
         if (i != current) {
           s_.force[current] = forceI;
           if constexpr (kFriction) s_.torque[current] = torqueI;
@@ -685,13 +685,13 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
     const std::size_t count = std::min(kChunk, pairs - begin);
     const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
-    loadPairs<kFriction>(p, list, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+    loadPairs<kFriction>(p, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
       return springs->at(chunk.slot[e]);
     });
     kern.geometry(chunk, m, kFriction);
     kern.law(c, chunk, m, kFriction, kLaw, false);
     for (std::size_t e = 0; e < m; ++e) {
-      const std::uint32_t i = chunk.first[e], j = list.second[chunk.slot[e]];
+      const std::uint32_t i = chunk.first[e], j = chunk.second[e];
       const Vec3 f = forceOf(chunk, e);
       force[i] += f;
       force[j] -= f;

@@ -114,11 +114,14 @@ class RowWalker {
       : rowStart_(rowStart.data()),
         row_(static_cast<std::uint32_t>(particle)),
         last_(static_cast<std::uint32_t>(particle) - 1U) {}
-  /// For the next run of pairs [begin, begin + count) (the first run starts at the walker's
-  /// particle's first pair): starts[e] = the rows starting at pair begin + e. Returns the
-  /// particle before the run's first pair's (unsigned: it wraps before particle 0).
-  std::uint32_t mark(std::size_t begin, std::size_t count, std::uint32_t* starts) {
-    std::fill_n(starts, count, 0U);
+  /// The longest run: the force pass's chunk of pairs.
+  static constexpr std::size_t kMaxRun = 64;
+  /// For the next run of pairs [begin, begin + count), count <= kMaxRun (the first run starts
+  /// at the walker's particle's first pair): starts[e] = the rows starting at pair begin + e.
+  /// Returns the particle before the run's first pair's (unsigned: it wraps before particle 0).
+  std::uint32_t mark(std::size_t begin, std::size_t count, std::uint32_t (&starts)[kMaxRun]) {
+    // The whole array, a constant size: a few vector stores rather than a string instruction.
+    std::fill_n(starts, kMaxRun, 0U);
     const std::uint32_t end = static_cast<std::uint32_t>(begin + count);
     std::uint32_t row = row_;  // a local: stores to `starts` could alias the members
     // rowStart[n] is the pair count, so the walk ends there at the latest.
