@@ -30,13 +30,13 @@ struct TangentialHistory {
 ///
 /// Each thread owns a run of blocks [threadBlock[t], threadBlock[t+1]) and adds the forces of
 /// its contacts straight to its own particles. A pair whose second particle belongs to a later
-/// thread "crosses" (crossing[c], ascending pair index): its first's thread computes it as any
-/// other pair, and the owner of the second particle computes it again from the same inputs (the
-/// spring as it was before the pass, ContactScratch::crossingSpring) and adds the second's share
-/// of `incoming[incomingStart[t] ..]` (sorted by second particle, then first) before its own
-/// pairs. Every particle thus receives its contacts in one order whatever the thread count: the
-/// pairs where it is second (ascending first), those where it is first (ascending second), then
-/// its walls (ascending wall).
+/// thread "crosses" (crossing[c], ascending pair index; crossingFirst[c] its first particle): its
+/// first's thread computes it as any other pair, and the owner of the second particle computes it
+/// again from the same inputs (the spring as it was before the pass,
+/// ContactScratch::crossingSpring) and adds the second's share of `incoming[incomingStart[t] ..]`
+/// (sorted by second particle, then first) before its own pairs. Every particle thus receives its
+/// contacts in one order whatever the thread count: the pairs where it is second (ascending first),
+/// those where it is first (ascending second), then its walls (ascending wall).
 struct ForcePlan {
   std::vector<std::uint32_t> blockWall;
   std::vector<std::uint32_t> threadBlock;
