@@ -149,7 +149,7 @@ void carryWallHistory(const std::vector<std::uint32_t>& oldList,
 /// threads and of the springs' storage.
 constexpr std::size_t kBlockPairs = 512, kBlockParticles = 512;
 
-/// Particle blocks for n particles and the list's rows (n + 1 entries, or none: no pairs).
+/// Particle blocks for n particles and the list's rows (n + 1 entries).
 void pairBlocks(const std::vector<std::uint32_t>& rowStart, std::size_t n,
                 std::vector<std::uint32_t>& blockParticle, std::vector<std::uint32_t>& blockPair,
                 std::vector<std::uint32_t>& blockWord) {
@@ -160,7 +160,7 @@ void pairBlocks(const std::vector<std::uint32_t>& rowStart, std::size_t n,
     const std::size_t particleBegin = i, pairBegin = k;
     while (i < n && i - particleBegin < kBlockParticles && k - pairBegin < kBlockPairs) {
       ++i;
-      k = rowStart.empty() ? 0 : rowStart[i];
+      k = rowStart[i];
     }
     blockParticle.push_back(static_cast<std::uint32_t>(i));
     blockPair.push_back(static_cast<std::uint32_t>(k));

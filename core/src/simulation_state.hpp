@@ -73,7 +73,7 @@ struct PairSprings {
 /// the force pass's work and of its ordered sums, and of the springs' storage (blockWord: the
 /// first word of the block's bits in PairSprings::held).
 struct NeighbourList {
-  std::vector<std::uint32_t> rowStart;  ///< n + 1 entries: particle i's pairs (empty: no list)
+  std::vector<std::uint32_t> rowStart;  ///< n + 1 entries: particle i's pairs
   std::vector<std::uint32_t> second;    ///< j of each candidate pair
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
   PairSprings springs;  ///< empty on the frictionless path

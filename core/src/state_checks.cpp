@@ -136,10 +136,9 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
   const NeighbourList& list = s.neighbours;
   const std::size_t n = s.particles.size();
   const std::size_t pairs = list.second.size();
-  c.require(list.rowStart.empty() ? pairs == 0
-                                  : list.rowStart.size() == n + 1 && list.rowStart.front() == 0 &&
-                                        list.rowStart.back() == pairs,
-            "pair list rows do not cover the pairs");
+  c.require(
+      list.rowStart.size() == n + 1 && list.rowStart.front() == 0 && list.rowStart.back() == pairs,
+      "pair list rows do not cover the pairs");
   for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
     c.require(list.rowStart[i] <= list.rowStart[i + 1], "pair list is not sorted");
   }
