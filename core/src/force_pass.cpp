@@ -622,11 +622,8 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   }
   out.blockPowers.resize(blocks);
   out.blockReaction.resize(blocks * walls);
-  // Per particle, exactly: the particles do not come and go, so there is nothing to grow into.
-  if (s.force.size() != n) std::vector<Vec3>(n).swap(s.force);
-  if constexpr (kFriction) {
-    if (s.torque.size() != n) std::vector<Vec3>(n).swap(s.torque);
-  }
+  resizeExactly(s.force, n);
+  if constexpr (kFriction) resizeExactly(s.torque, n);
 
   out.springsSetAside.resize(static_cast<std::size_t>(threads));
   int broken = 0;

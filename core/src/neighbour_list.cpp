@@ -288,9 +288,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
 
 void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& position) {
   const std::size_t n = position.size();
-  if (list.referencePosition.size() != n) {
-    std::vector<Eigen::Vector3f>(n).swap(list.referencePosition);  // exactly n
-  }
+  resizeExactly(list.referencePosition, n);
   float largest = 0.0f;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3f x = position[i].cast<float>();

@@ -87,7 +87,7 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
   PairSprings& from = old.springs;
   const bool oldHolds = !from.block.empty() && !old.blockWord.empty() &&
                         from.held.size() == old.blockWord.back() &&
-                        old.blockPair.back() == old.second.size() && !old.rowStart.empty();
+                        old.blockPair.back() == old.second.size();
   const std::size_t oldPairs = oldHolds ? old.second.size() : 0;
   PairKeys oldKeys(old.rowStart, old.second), newKeys(rowStart, second);
   // The old list's walk: pair a, its block, and the index of a's spring in that block.

@@ -168,6 +168,13 @@ void resizeScratch(std::vector<T>& v, std::size_t size) {
   v.resize(size);
 }
 
+/// Gives a per-particle array exactly `size` elements (value-initialised when it changes size):
+/// the particles do not come and go, so there is nothing to grow into, and no slack is kept.
+template <class T>
+void resizeExactly(std::vector<T>& v, std::size_t size) {
+  if (v.size() != size) std::vector<T>(size).swap(v);
+}
+
 // ---- 2. Integrator derivatives ------------------------------------------------------------
 
 /// Time derivatives beyond the velocity of one kind of motion (translation or rotation):
