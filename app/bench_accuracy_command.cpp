@@ -716,7 +716,7 @@ int runBench(const BenchAccuracyOptions& options) {
   for (const PaperReference* paper : plan.stageCases) {
     stageCases.push_back(loadStageCase(*paper, options));
   }
-  std::filesystem::create_directories(options.outDir);
+  createOutputFolder(options.outDir);
   const std::string loadBefore = loadAverage();
   std::cout << "bench-accuracy" << (options.quick ? " --quick" : "")
             << ": single-threaded; load average " << loadBefore << '\n';

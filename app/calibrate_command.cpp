@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -12,6 +13,7 @@
 #include "granular/stage.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
+#include "stop_signals.hpp"
 
 namespace granular::app {
 namespace {
@@ -38,6 +40,13 @@ Scene withSide(Scene scene, double side) {
 
 int calibrate(const CalibrateOptions& options) {
   if (options.sides.empty()) throw ConfigError("calibrate-box: give at least one --sides value");
+  catchStopSignals();
+  // Refused now rather than after the settling runs.
+  if (std::filesystem::is_directory(options.report)) {
+    throw IoError(options.report.string() +
+                  ": --report is a folder; give the markdown file to write, e.g. " +
+                  (options.report / "calibration.md").string());
+  }
   const Scene base = loadScene(options.scene);
   ProgressReporter progress(!options.quiet);
   std::ostringstream table;
@@ -49,7 +58,11 @@ int calibrate(const CalibrateOptions& options) {
     const Scene scene = withSide(base, side);
     Simulation sim = buildSimulation(scene);
     StageObserver observer;
-    observer.onProgress = [&](const Simulation& s, const StageSpec& st) { progress.update(s, st); };
+    observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
+      progress.update(s, st);
+      stopIfSignalled("the box of side " + format("%g", side) +
+                      " m was not finished; nothing written");
+    };
     observer.progressSteps = 200;
     const auto start = std::chrono::steady_clock::now();
     const StageResult r = runStage(sim, scene.stages.at(0), scene.output, observer);

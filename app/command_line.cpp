@@ -1,8 +1,64 @@
 #include "command_line.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
 #include "paper_figures.hpp"
 
 namespace granular::app {
+
+namespace {
+
+/// A number of the given unit that must be finite and > 0 (or >= 0): CLI11's own range checks
+/// print their bound, DBL_MAX, with 309 digits.
+CLI::Validator finiteNumber(const std::string& unit, bool zeroAllowed,
+                            const std::string& zeroMeans) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        std::size_t used = 0;
+        try {
+          value = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        const bool ok = used == text.size() && used > 0 && std::isfinite(value) &&
+                        (zeroAllowed ? value >= 0 : value > 0);
+        if (ok) return {};
+        return "'" + text + "' is not a finite number " + (zeroAllowed ? ">= 0" : "> 0") + " " +
+               unit + zeroMeans;
+      },
+      zeroAllowed ? "NUMBER >= 0" : "NUMBER > 0");
+}
+
+/// A path that names something: `--out ""` would silently mean the default folder.
+const CLI::Validator kNonEmptyPath(
+    [](std::string& text) -> std::string {
+      return text.empty() ? std::string("an empty path; leave the option out for the default")
+                          : std::string();
+    },
+    "PATH");
+
+/// Levenshtein distance, for "did you mean".
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
 
 CommandLine::CommandLine() {
   app_.require_subcommand(1);
@@ -10,14 +66,15 @@ CommandLine::CommandLine() {
   runCommand_ = app_.add_subcommand("run", "Run every stage of a scene, writing its outputs");
   runCommand_->add_option("scene", run_.scene, "Scene file (TOML; keys in docs/scenes.md)")
       ->required();
-  runCommand_->add_option("-o,--out", run_.outDir, "Output folder (default: runs/<scene stem>)");
+  runCommand_->add_option("-o,--out", run_.outDir, "Output folder (default: runs/<scene stem>)")
+      ->check(kNonEmptyPath);
   runCommand_->add_flag("-q,--quiet", run_.quiet, "No progress lines on stderr");
   runCommand_
       ->add_option("--checkpoint-every", run_.checkpointEvery,
                    "Wall-clock seconds between checkpoints (OUT/checkpoint.bin, also written at "
                    "each stage's end); 0: none")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(finiteNumber("seconds", true, " (0: no checkpoints)"));
   runCommand_->add_flag("--resume", run_.resume,
                         "Continue from OUT/checkpoint.bin if it exists (bit for bit as if the run "
                         "had never stopped); otherwise start from the beginning");
@@ -25,10 +82,15 @@ CommandLine::CommandLine() {
   paper_.scenesDir = GRANULAR_SCENES_DIR;
   paperCommand_ = app_.add_subcommand(
       "paper", "Reproduce the paper: both friction cases, time series, stresses and report.md");
-  paperCommand_->add_option("-o,--out", paper_.outDir, "Output folder (default: runs/paper)");
-  paperCommand_->add_option("--scenes", paper_.scenesDir,
-                            "Folder of paper-mu0.toml and paper-mu03.toml (default: the installed "
-                            "assets/scenes)");
+  paperCommand_->add_option("-o,--out", paper_.outDir, "Output folder (default: runs/paper)")
+      ->check(kNonEmptyPath);
+  paperCommand_
+      ->add_option("--scenes", paper_.scenesDir,
+                   "Folder of paper-mu0.toml and paper-mu03.toml (default: the installed "
+                   "assets/scenes)")
+      ->check(kNonEmptyPath);
+  paperCommand_->add_flag("--force", paper_.force,
+                          "Write into --out even if it holds other files and no paper run");
   paperCommand_->add_flag("--fresh", paper_.fresh,
                           "Settle again even if settled checkpoints exist");
   paperCommand_->add_flag("-q,--quiet", paper_.quiet, "No progress lines on stderr");
@@ -41,28 +103,37 @@ CommandLine::CommandLine() {
       ->required();
   calibrateCommand_->add_option("--sides", calibrate_.sides, "Box sides to try [m]")
       ->required()
-      ->delimiter(',');
-  calibrateCommand_->add_option("--target-height", calibrate_.targetHeight,
-                                "Settled height to hit [m] (default 1.087, the paper's)");
-  calibrateCommand_->add_option("--report", calibrate_.report,
-                                "Also write the table here (markdown)");
+      ->delimiter(',')
+      ->check(finiteNumber("m", false, ""));
+  calibrateCommand_
+      ->add_option("--target-height", calibrate_.targetHeight,
+                   "Settled height to hit [m] (default 1.087, the paper's)")
+      ->check(finiteNumber("m", false, ""));
+  calibrateCommand_
+      ->add_option("--report", calibrate_.report, "Also write the table here (markdown file)")
+      ->check(kNonEmptyPath);
   calibrateCommand_->add_flag("-q,--quiet", calibrate_.quiet, "No progress lines on stderr");
 
   figuresCommand_ = app_.add_subcommand(
       "figures", "Re-draw every figure of a `granular paper` run from its saved results");
   figuresCommand_->add_option("run_dir", figuresDir_, "The --out folder of `granular paper`")
-      ->required();
+      ->required()
+      ->check(kNonEmptyPath);
 
   bench_.scenesDir = GRANULAR_SCENES_DIR;
   benchCommand_ = app_.add_subcommand(
       "bench-accuracy",
       "Speed against error of Gear5 and velocity Verlet: impacts and the paper's stage 2");
-  benchCommand_->add_option("--run", bench_.runDir,
-                            "`granular paper --out` folder with the settled checkpoints (default: "
-                            "runs/paper)");
-  benchCommand_->add_option("-o,--out", bench_.outDir,
-                            "Output folder (default: runs/bench-accuracy, with --quick "
-                            "runs/bench-accuracy-quick)");
+  benchCommand_
+      ->add_option("--run", bench_.runDir,
+                   "`granular paper --out` folder with the settled checkpoints (default: "
+                   "runs/paper)")
+      ->check(kNonEmptyPath);
+  benchCommand_
+      ->add_option("-o,--out", bench_.outDir,
+                   "Output folder (default: runs/bench-accuracy, with --quick "
+                   "runs/bench-accuracy-quick)")
+      ->check(kNonEmptyPath);
   benchCommand_->add_option("--scenes", bench_.scenesDir,
                             "Folder of paper-mu0.toml and paper-mu03.toml (default: the installed "
                             "assets/scenes)");
@@ -72,6 +143,23 @@ CommandLine::CommandLine() {
 }
 
 int CommandLine::run(int argc, char** argv) {
+  // A mistyped command would otherwise be taken for a stray argument ("A subcommand is
+  // required"): name it and the nearest command.
+  const std::vector<CLI::App*> commands = app_.get_subcommands([](CLI::App*) { return true; });
+  const auto named = [&](const CLI::App* c) { return argc > 1 && c->get_name() == argv[1]; };
+  if (argc > 1 && argv[1][0] != '-' && std::none_of(commands.begin(), commands.end(), named)) {
+    std::string nearest, all;
+    std::size_t best = ~std::size_t{0};
+    for (const CLI::App* command : commands) {
+      const std::size_t d = editDistance(argv[1], command->get_name());
+      if (d < best) best = d, nearest = command->get_name();
+      all += (all.empty() ? "" : ", ") + command->get_name();
+    }
+    std::cerr << "error: unknown command '" << argv[1] << "'"
+              << (best <= 2 ? "; did you mean '" + nearest + "'?" : std::string())
+              << " (commands: " << all << "; granular --help)\n";
+    return 2;
+  }
   try {
     app_.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -21,10 +21,6 @@ std::string csvField(const std::string& text) {
   return out + '"';
 }
 
-void check(const std::ofstream& out, const std::filesystem::path& path) {
-  if (!out) throw IoError(path.string() + ": cannot write");
-}
-
 }  // namespace
 
 std::string csvNumber(double x) {
@@ -37,38 +33,24 @@ std::string csvNumber(double x) {
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
                                    std::vector<std::string> walls)
-    : path_(path), out_(path), walls_(std::move(walls)) {
-  if (!out_) throw IoError(path.string() + ": cannot create");
-  out_ << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J,elastic_normal_J,"
-          "elastic_tangential_J,dissipated_normal_J,dissipated_tangential_J,"
-          "dissipated_friction_J,tangential_stiffness_work_J,gravity_work_J,wall_work_J,"
-          "energy_total_J,contacts_particle,contacts_wall";
+    : file_(path), walls_(std::move(walls)) {
+  std::ostringstream header;
+  header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J,elastic_normal_J,"
+            "elastic_tangential_J,dissipated_normal_J,dissipated_tangential_J,"
+            "dissipated_friction_J,tangential_stiffness_work_J,gravity_work_J,wall_work_J,"
+            "energy_total_J,contacts_particle,contacts_wall";
   for (const std::string& wall : walls_) {
     for (const char* axis : {"x", "y", "z"}) {
-      out_ << ",reaction_" << wall << '_' << axis << "_N";  // wall names need no quoting
+      header << ",reaction_" << wall << '_' << axis << "_N";  // wall names need no quoting
     }
   }
-  out_ << "\n" << std::flush;
-  check(out_, path_);
-  bytes_ = std::uint64_t(out_.tellp());
+  header << "\n";
+  file_.append(header.str());
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
                                    std::vector<std::string> walls, std::uint64_t bytes)
-    : path_(path), walls_(std::move(walls)) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec || size < bytes) {
-    throw IoError(path.string() + ": cannot resume the time series: it has " +
-                  (ec ? std::string("gone") : std::to_string(size) + " bytes") +
-                  ", the checkpoint " + "expects at least " + std::to_string(bytes));
-  }
-  std::filesystem::resize_file(path, bytes, ec);
-  if (ec) throw IoError(path.string() + ": cannot truncate: " + ec.message());
-  out_.open(path, std::ios::app | std::ios::binary);
-  check(out_, path_);
-  bytes_ = bytes;
-}
+    : file_(path, bytes), walls_(std::move(walls)) {}
 
 void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
   const EnergyBalance e = sim.energy();
@@ -92,29 +74,16 @@ void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
     row << ',' << csvNumber(r.x()) << ',' << csvNumber(r.y()) << ',' << csvNumber(r.z());
   }
   row << '\n';
-  const std::string text = row.str();
-  out_ << text << std::flush;
-  bytes_ += text.size();
-  check(out_, path_);
+  file_.append(row.str());
 }
 
 void writeTextFile(const std::filesystem::path& path, const std::string& text) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw IoError(temporary.string() + ": cannot create");
-    out << text;
-    out.flush();
-    check(out, temporary);
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) throw IoError(path.string() + ": cannot write: " + error.message());
+  writeFileAtomically(path, text);
 }
 
 void writeParticleState(const std::filesystem::path& path, const Particles& particles) {
-  std::ostringstream out;
+  AtomicFile file(path);
+  std::ostream& out = file.stream();
   out << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass\n";
   for (std::size_t i = 0; i < particles.size(); ++i) {
     out << i;
@@ -124,7 +93,7 @@ void writeParticleState(const std::filesystem::path& path, const Particles& part
     }
     out << ',' << csvNumber(particles.radius[i]) << ',' << csvNumber(particles.mass[i]) << '\n';
   }
-  writeTextFile(path, out.str());
+  file.commit();
 }
 
 }  // namespace granular::app

@@ -4,26 +4,22 @@
 /// the same double, so no precision is lost.
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
-#include <stdexcept>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "granular/error.hpp"
+#include "granular/output_file.hpp"
 #include "granular/simulation.hpp"
 
 namespace granular::app {
-
-/// A file that cannot be created or written (exit status 1).
-class IoError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// Shortest round-trip decimal of x ("0.1", "1e-05").
 std::string csvNumber(double x);
 
 /// One row per sample: stage, time, step, the energy balance, contact counts and every wall's
-/// reaction. Each row is flushed at once so that a crash loses nothing already sampled.
+/// reaction. Each row is written at once and whole (AppendFile), so that a crash loses nothing
+/// already sampled and a full disk never leaves half a row.
 class TimeSeriesWriter {
  public:
   /// `walls` fixes the reaction columns; a wall that does not exist yet (the top wall before
@@ -34,21 +30,21 @@ class TimeSeriesWriter {
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
                    std::uint64_t bytes);
   void write(const std::string& stage, const Simulation& sim);
-  /// Bytes in the file so far (every row is flushed as it is written) [B].
-  std::uint64_t bytes() const { return bytes_; }
+  /// Bytes in the file so far (every row is written as it comes) [B].
+  std::uint64_t bytes() const { return file_.bytes(); }
+  /// Waits until every row is on the disk (before a checkpoint that counts them).
+  void sync() { file_.sync(); }
 
  private:
-  std::filesystem::path path_;
-  std::ofstream out_;
+  AppendFile file_;
   std::vector<std::string> walls_;
-  std::uint64_t bytes_ = 0;
 };
 
 /// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into
 /// place, so a reader never sees half a file.
 void writeParticleState(const std::filesystem::path& path, const Particles& particles);
 
-/// Writes `text` to `path` through a temporary file and a rename.
+/// Writes `text` to `path` through a temporary file and a rename (writeFileAtomically).
 void writeTextFile(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace granular::app

@@ -22,6 +22,7 @@
 #include "paper_report.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
+#include "stop_signals.hpp"
 #include "vtk_snapshot.hpp"
 
 namespace granular::app {
@@ -146,7 +147,7 @@ class CompactionParaview {
     boxMax_ = scene.box.max;
     every_ = std::max(1L, std::lround(kParaviewInterval / scene.output.interval));
     interval_ = scene.output.interval;
-    std::filesystem::create_directories(dir_ / "paraview");
+    createOutputFolder(dir_ / "paraview");
   }
 
   /// Called with every stage-2 sample, the first at t = 0.
@@ -183,9 +184,11 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   const std::filesystem::path sceneFile = options.scenesDir / ref.scene;
   const Scene scene = loadScene(sceneFile);
   const std::filesystem::path dir = options.outDir / ref.name;
-  std::filesystem::create_directories(dir);
+  createOutputFolder(dir);
   const std::filesystem::path checkpoint = dir / "settled.ckpt";
   if (options.fresh) std::filesystem::remove(checkpoint);
+  writeTextFile(dir / "case.txt", "scene = " + sceneFile.string() + "\nfriction = " +
+                                      csvNumber(scene.simulation.material.friction) + "\n");
 
   CaseOutcome outcome;
   outcome.reference = &ref;
@@ -200,6 +203,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   run.onStart = [&](const Simulation& sim) {
     printHeader(std::cout, scene, sim, dir);
     outcome.density = sim.config().material.density;
+    outcome.friction = sim.config().material.friction;
     outcome.timeStep = sim.config().timeStep;
     outcome.contactDuration = sim.contactScale().duration;
     outcome.integrator =
@@ -234,9 +238,17 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   };
   run.onProgress = [&](const Simulation& sim, const StageSpec& stage) {
     progress.update(sim, stage);
+    stopIfSignalled("case " + std::string(ref.name) + " is incomplete; run the same command again" +
+                    (stage.name == settleStage.name
+                         ? std::string(" (stage 1 starts again)")
+                         : " (stage 1 is restored from " + checkpoint.string() + ")"));
   };
   outcome.result = runCompaction(scene, run);
   progress.finish();
+  if (!outcome.result.checkpointRefused.empty()) {
+    std::cout << "settled again: the settled checkpoint was not used: "
+              << outcome.result.checkpointRefused << "\n";
+  }
 
   const CompactionResult& r = outcome.result;
   if (!r.settleRestored) {
@@ -274,18 +286,46 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
 
 // 3. Both cases and the report --------------------------------------------------------------------
 
+/// A folder `granular paper` may write into: new, empty, or one it wrote before (holding a
+/// case folder). Anything else is somebody's other work, kept unless --force.
+void checkOutputFolder(const PaperOptions& options) {
+  std::error_code ec;
+  if (options.force || !std::filesystem::exists(options.outDir, ec)) return;
+  if (!std::filesystem::is_directory(options.outDir, ec)) {
+    throw IoError(options.outDir.string() + ": --out must be a folder; this is a file");
+  }
+  if (std::filesystem::is_empty(options.outDir, ec)) return;
+  for (const PaperReference& ref : kPaperCases) {
+    if (std::filesystem::is_directory(options.outDir / ref.name, ec)) return;
+  }
+  throw ConfigError(options.outDir.string() +
+                    ": not empty and not a `granular paper` run folder (no mu0/ or mu03/): "
+                    "its report.md and figures/ would be overwritten; choose another --out or "
+                    "add --force");
+}
+
 int runPaper(const PaperOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  std::filesystem::create_directories(options.outDir);
+  catchStopSignals();
+  checkOutputFolder(options);
+  createOutputFolder(options.outDir);
   ProgressReporter progress(!options.quiet);
   std::vector<CaseOutcome> cases;
   for (const PaperReference& ref : kPaperCases) {
-    std::cout << "\n== case " << ref.name << " (mu = " << ref.friction << ") ==\n";
+    std::cout << "\n== case " << ref.name << " ==\n";
     cases.push_back(runCase(ref, options, progress));
   }
   std::vector<FigureFile> figures;
   try {
-    figures = drawPaperFigures(options.outDir);
+    FigureSet set = drawPaperFigures(options.outDir);
+    for (const std::string& missing : set.missing) {
+      std::cerr << "warning: figure not drawn: " << missing << "\n";
+    }
+    figures = std::move(set.written);
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const IoError&) {
+    throw;  // a full disk or a folder in the way: the report would fail the same way
   } catch (const std::exception& e) {
     // The numbers stand without the pictures: say so and go on to the report.
     std::cerr << "warning: figures not drawn: " << e.what() << "\n";

@@ -10,6 +10,8 @@ struct PaperOptions {
   std::filesystem::path scenesDir;              ///< folder of paper-mu0.toml, paper-mu03.toml
   bool fresh = false;                           ///< ignore settled checkpoints
   bool quiet = false;                           ///< no progress lines
+  /// Write into an existing folder that holds other files and no case of a paper run.
+  bool force = false;
 };
 
 /// Exit status as for `granular run`.

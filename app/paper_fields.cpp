@@ -14,6 +14,7 @@
 #include "granular/principal.hpp"
 #include "granular/spline.hpp"
 #include "granular/stress_field.hpp"
+#include "run_header.hpp"
 #include "vtk_output.hpp"
 
 namespace granular::app {
@@ -84,7 +85,7 @@ std::string num(double x) {
 std::map<std::string, double> writeStressFields(const Simulation& sim,
                                                 const std::filesystem::path& caseDir) {
   const std::filesystem::path dir = caseDir / "fields";
-  std::filesystem::create_directories(dir);
+  createOutputFolder(dir);
   const Box box = settledBox(sim);
   const double L = box.side(), H = box.height(), yMid = 0.5 * (box.lo.y() + box.hi.y());
   std::map<std::string, double> summary;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "csv_input.hpp"
 #include "csv_output.hpp"
@@ -13,6 +14,7 @@
 #include "granular/render/particle_figure.hpp"
 #include "granular/render/plot.hpp"
 #include "run_header.hpp"
+#include "stop_signals.hpp"
 
 namespace granular::app {
 namespace {
@@ -236,92 +238,142 @@ Image profileFigure(const CsvTable& t, const std::string& label, bool frictional
 
 // 4. All of them ------------------------------------------------------------------------------
 
-std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir) {
+/// The label of a case: its friction as case.txt records it ("μ = 0.3"), else its folder's.
+std::string caseLabel(const std::filesystem::path& dir, const Case& c) {
+  const std::filesystem::path file = dir / "case.txt";
+  if (!std::filesystem::exists(file)) return c.label;
+  return "μ = " + format("%g", numberAt(readKeyValues(file), "friction", file));
+}
+
+FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
   const std::filesystem::path out = runDir / "figures";
-  std::filesystem::create_directories(out);
-  std::vector<FigureFile> written;
-  auto save = [&](const Image& image, const std::string& name, const std::string& caption) {
-    render::writePng(image, out / name, kDpi);
-    written.push_back({caption, std::filesystem::path("figures") / name});
+  FigureSet set;
+  std::optional<render::FigureRenderer> renderer;
+  // Each figure is drawn if its inputs exist, and listed as missing with the first absent one
+  // otherwise; the names do not depend on what else exists.
+  auto draw = [&](const std::string& name, const std::string& caption,
+                  const std::vector<std::filesystem::path>& inputs, const auto& makeImage) {
+    stopIfSignalled("figures up to " + name + " not drawn");
+    for (const std::filesystem::path& input : inputs) {
+      if (!std::filesystem::exists(runDir / input)) {
+        set.missing.push_back(name + " (" + input.generic_string() + " is missing)");
+        return;
+      }
+    }
+    if (!renderer) {
+      createOutputFolder(out);
+      renderer.emplace();
+    }
+    render::writePng(makeImage(), out / name, kDpi);
+    set.written.push_back({caption, std::filesystem::path("figures") / name});
   };
-  render::FigureRenderer renderer;
-  const std::filesystem::path mu0 = runDir / "mu0";
-  if (std::filesystem::exists(mu0 / "falling_t1.csv")) {
-    save(particleFigure(renderer, mu0, "falling_t1.csv", "speed_m_per_s",
-                        "Particles falling, t = 1 s of stage 1 (μ = 0)", "speed [m/s]"),
-         "fig02_falling_mu0.png",
-         "Fig. 2: particles falling at t = 1 s of stage 1, μ = 0, coloured by speed");
-  }
+  const Case& mu0 = kCases[0];
+  const std::string mu0Label = caseLabel(runDir / mu0.name, mu0);
+  draw("fig02_falling_mu0.png",
+       "Fig. 2: particles falling at t = 1 s of stage 1, " + mu0Label + ", coloured by speed",
+       {"mu0/falling_t1.csv", "mu0/box.txt"}, [&] {
+         return particleFigure(*renderer, runDir / mu0.name, "falling_t1.csv", "speed_m_per_s",
+                               "Particles falling, t = 1 s of stage 1 (" + mu0Label + ")",
+                               "speed [m/s]");
+       });
   std::vector<std::pair<std::string, CsvTable>> settle;
   double threshold = 0;
-  int figure = 3;
-  for (const Case& c : kCases) {
-    const std::filesystem::path dir = runDir / c.name;
-    if (!std::filesystem::exists(dir / "settled_particles.csv")) continue;
-    const std::string n = std::to_string(figure);
-    save(particleFigure(renderer, dir, "settled_particles.csv", "force_sum_N",
-                        "Settled assembly, end of stage 1 (" + c.label + ")", "Σ|F_ij| [N]"),
-         "fig0" + n + "_settled_" + c.name + ".png",
-         "Fig. " + n + ": the settled assembly, " + c.label + ", coloured by Σ|F_ij| [N]");
-    const CsvTable stress = readCsv(dir / "compaction_stress.csv");
-    const std::string n4 = std::to_string(figure + 1), n5 = std::to_string(figure + 2);
-    save(forcesFigure(stress, c.label), "fig0" + n4 + "_forces_" + c.name + ".png",
-         "Fig. " + n4 + ": wall reactions and weight vs time, stage 2, " + c.label);
-    save(stressFigure(stress, c.label), "fig0" + n5 + "_stresses_" + c.name + ".png",
-         "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + c.label);
+  for (std::size_t k = 0; k < std::size(kCases); ++k) {
+    const Case& c = kCases[k];
+    const std::filesystem::path dir = runDir / c.name, rel = c.name;
+    const std::string label = caseLabel(dir, c);
+    const std::string n = std::to_string(3 + 3 * k), n4 = std::to_string(4 + 3 * k),
+                      n5 = std::to_string(5 + 3 * k);
+    draw("fig0" + n + "_settled_" + c.name + ".png",
+         "Fig. " + n + ": the settled assembly, " + label + ", coloured by Σ|F_ij| [N]",
+         {rel / "settled_particles.csv", rel / "box.txt"}, [&] {
+           return particleFigure(*renderer, dir, "settled_particles.csv", "force_sum_N",
+                                 "Settled assembly, end of stage 1 (" + label + ")", "Σ|F_ij| [N]");
+         });
+    draw("fig0" + n4 + "_forces_" + c.name + ".png",
+         "Fig. " + n4 + ": wall reactions and weight vs time, stage 2, " + label,
+         {rel / "compaction_stress.csv"},
+         [&] { return forcesFigure(readCsv(dir / "compaction_stress.csv"), label); });
+    draw("fig0" + n5 + "_stresses_" + c.name + ".png",
+         "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + label,
+         {rel / "compaction_stress.csv"},
+         [&] { return stressFigure(readCsv(dir / "compaction_stress.csv"), label); });
     if (std::filesystem::exists(dir / "settle_kinetic.csv")) {
-      settle.emplace_back(c.label, readCsv(dir / "settle_kinetic.csv"));
+      settle.emplace_back(label, readCsv(dir / "settle_kinetic.csv"));
       if (std::filesystem::exists(dir / "settle_summary.txt")) {
         const auto kv = readKeyValues(dir / "settle_summary.txt");
         threshold = numberAt(kv, "threshold_J", dir / "settle_summary.txt");
       }
     }
-    figure += 3;
   }
-  if (!settle.empty()) {
-    save(settleFigure(settle, threshold), "settle_kinetic_energy.png",
-         "Kinetic energy during stage 1 (log scale), both cases");
+  if (settle.empty()) {
+    set.missing.push_back("settle_kinetic_energy.png (no mu0/ or mu03/settle_kinetic.csv)");
+  } else {
+    draw("settle_kinetic_energy.png", "Kinetic energy during stage 1 (log scale), both cases", {},
+         [&] { return settleFigure(settle, threshold); });
   }
   // The stress fields of the settled beds: the paper shows μ = 0.3; μ = 0 for comparison.
   for (const Case& c : {kCases[1], kCases[0]}) {
-    const std::filesystem::path fields = runDir / c.name / "fields";
-    if (!std::filesystem::exists(fields / "midsection.csv")) continue;
+    const std::filesystem::path fields = runDir / c.name / "fields", rel = c.name + "/fields";
+    const std::string label = caseLabel(runDir / c.name, c);
     const bool frictional = c.name == "mu03";
     const std::string suffix = frictional ? "" : "_mu0";
-    const CsvTable mid = readCsv(fields / "midsection.csv");
-    save(
-        sigma33Figure(mid, "s33_rep_Pa", "σ₃₃ on the midsection, end of stage 1 (" + c.label + ")"),
-        "fig09_sigma33" + suffix + ".png",
-        "Fig. 9" + std::string(frictional ? "" : " (μ = 0 for comparison)") +
-            ": σ33 on the midsection y = L/2 from representative spheres (Eq. 1), tricubic "
-            "spline, " +
-            c.label);
-    save(trajectoryFigure(mid, readCsv(fields / "trajectories.csv"),
-                          "Trajectories of σ₁, end of stage 1 (" + c.label + ")"),
-         "fig10_trajectories" + suffix + ".png",
+    const std::vector<std::filesystem::path> mid = {rel / "midsection.csv"};
+    draw("fig09_sigma33" + suffix + ".png",
+         "Fig. 9" + std::string(frictional ? "" : " (μ = 0 for comparison)") +
+             ": σ33 on the midsection y = L/2 from representative spheres (Eq. 1), tricubic "
+             "spline, " +
+             label,
+         mid, [&] {
+           return sigma33Figure(readCsv(fields / "midsection.csv"), "s33_rep_Pa",
+                                "σ₃₃ on the midsection, end of stage 1 (" + label + ")");
+         });
+    draw("fig10_trajectories" + suffix + ".png",
          "Fig. 10" + std::string(frictional ? "" : " (μ = 0 for comparison)") +
              ": trajectories of the most compressive principal stress σ1 on the midsection, " +
-             c.label);
-    save(sigma33Figure(mid, "s33_cg_Pa",
-                       "σ₃₃ coarse-grained (c = 0.1 m), end of stage 1 (" + c.label + ")"),
-         "fig09_sigma33_coarse_grained" + suffix + ".png",
+             label,
+         {rel / "midsection.csv", rel / "trajectories.csv"}, [&] {
+           return trajectoryFigure(readCsv(fields / "midsection.csv"),
+                                   readCsv(fields / "trajectories.csv"),
+                                   "Trajectories of σ₁, end of stage 1 (" + label + ")");
+         });
+    draw("fig09_sigma33_coarse_grained" + suffix + ".png",
          "Beyond the paper: σ33 on the midsection, coarse-grained (Lucy kernel, c = 0.1 m), " +
-             c.label);
-    save(profileFigure(readCsv(fields / "profiles.csv"), c.label, frictional),
-         "profile_sigma33" + suffix + ".png",
+             label,
+         mid, [&] {
+           return sigma33Figure(readCsv(fields / "midsection.csv"), "s33_cg_Pa",
+                                "σ₃₃ coarse-grained (c = 0.1 m), end of stage 1 (" + label + ")");
+         });
+    draw("profile_sigma33" + suffix + ".png",
          "Beyond the paper: σ33 against height, centre line and cross-section mean, against " +
-             std::string(frictional ? "Janssen's law" : "the hydrostatic load") + ", " + c.label);
+             std::string(frictional ? "Janssen's law" : "the hydrostatic load") + ", " + label,
+         {rel / "profiles.csv"},
+         [&] { return profileFigure(readCsv(fields / "profiles.csv"), label, frictional); });
   }
-  return written;
+  return set;
 }
 
 int figuresCommand(const std::filesystem::path& runDir) {
   return withErrorMapping([&] {
+    catchStopSignals();
     if (!std::filesystem::is_directory(runDir)) {
       throw IoError(runDir.string() + ": not a folder (give the --out folder of `granular paper`)");
     }
-    for (const FigureFile& f : drawPaperFigures(runDir)) {
+    const FigureSet set = drawPaperFigures(runDir);
+    if (set.written.empty()) {
+      throw IoError(runDir.string() +
+                    ": nothing to draw: not the --out folder of `granular paper` (it needs mu0/ "
+                    "and mu03/ with settled_particles.csv, compaction_stress.csv and fields/)");
+    }
+    for (const FigureFile& f : set.written) {
       std::cout << "wrote " << (runDir / f.path).string() << "\n";
+    }
+    if (!set.missing.empty()) {
+      std::string list;
+      for (const std::string& m : set.missing) list += (list.empty() ? "" : "; ") + m;
+      throw IoError(runDir.string() + ": drew " + std::to_string(set.written.size()) + " of " +
+                    std::to_string(set.written.size() + set.missing.size()) +
+                    " figures; not drawn: " + list);
     }
     return 0;
   });

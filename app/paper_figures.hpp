@@ -14,11 +14,19 @@ struct FigureFile {
   std::filesystem::path path;  ///< relative to the run folder
 };
 
-/// Draws into RUN_DIR/figures/ every figure whose data exist; returns what it wrote, in the
-/// paper's order. Throws IoError on unreadable data, render::RenderError without OpenGL.
-std::vector<FigureFile> drawPaperFigures(const std::filesystem::path& runDir);
+/// What drawPaperFigures drew, and what it could not draw with the reason.
+struct FigureSet {
+  std::vector<FigureFile> written;   ///< in the paper's order
+  std::vector<std::string> missing;  ///< "fig02_falling_mu0.png (mu0/falling_t1.csv is missing)"
+};
 
-/// `granular figures RUN_DIR`: re-draws the figures of a run. Exit status as `granular run`.
+/// Draws into RUN_DIR/figures/ every figure whose data exist (16 for a whole run); labels each
+/// case with the friction its case.txt records. Throws IoError on unreadable data or a failed
+/// write, render::RenderError without OpenGL.
+FigureSet drawPaperFigures(const std::filesystem::path& runDir);
+
+/// `granular figures RUN_DIR`: re-draws the figures of a run. Exit status 1 when a figure cannot
+/// be drawn (every missing input is named) or nothing is there to draw.
 int figuresCommand(const std::filesystem::path& runDir);
 
 }  // namespace granular::app

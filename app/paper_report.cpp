@@ -13,6 +13,16 @@
 namespace granular::app {
 namespace {
 
+/// "μ = 0.3"; a case run with another friction than the paper's case it is compared with (a
+/// scene from --scenes) says so.
+std::string caseLabel(const CaseOutcome& c) {
+  std::string label = "μ = " + format("%g", c.friction);
+  if (c.friction != c.reference->friction) {
+    label += " (compared with the paper's μ = " + format("%g", c.reference->friction) + ")";
+  }
+  return label;
+}
+
 // 1. Numbers derived from a case ------------------------------------------------------------------
 
 /// What the report states about the end of stage 2.
@@ -95,7 +105,7 @@ std::vector<Target> targets(const std::vector<CaseOutcome>& cases, const std::ve
                             double totalWall) {
   std::vector<Target> t;
   for (std::size_t k = 0; k < cases.size(); ++k) {
-    const std::string mu = "μ = " + format("%g", cases[k].reference->friction);
+    const std::string mu = caseLabel(cases[k]);
     t.push_back({mu + ": vertical balance error at t = 1 s " + pct(d[k].end.balanceError) +
                      " (target ≤ 0.5 %)",
                  std::abs(d[k].end.balanceError) <= 0.005});
@@ -169,7 +179,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
          "sub-samples; the paper asks for averaged reactions in Eq. (2).\n\n";
 
   out << "## Set-up\n\n| | ";
-  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " | ";
+  for (const CaseOutcome& c : cases) out << caseLabel(c) << " | ";
   out << "\n|---|";
   for (std::size_t k = 0; k < cases.size(); ++k) out << "---|";
   out << "\n";
@@ -194,7 +204,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
   });
 
   out << "\n## Stage 1: settling under gravity\n\n| | ";
-  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " | ";
+  for (const CaseOutcome& c : cases) out << caseLabel(c) << " | ";
   out << "\n|---|";
   for (std::size_t k = 0; k < cases.size(); ++k) out << "---|";
   out << "\n";
@@ -227,11 +237,11 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
 
   out << "\n## Stage 2 at t = 1 s: ours beside the paper\n\n";
   for (std::size_t k = 0; k < cases.size(); ++k) {
-    out << "### μ = " << cases[k].reference->friction << "\n\n";
+    out << "### " << caseLabel(cases[k]) << "\n\n";
     tensorTable(out, cases[k], d[k]);
   }
   out << "| quantity | ";
-  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " ours | paper | ";
+  for (const CaseOutcome& c : cases) out << caseLabel(c) << " ours | paper | ";
   out << "\n|---|";
   for (std::size_t k = 0; k < cases.size(); ++k) out << "---|---|";
   out << "\n";
@@ -304,7 +314,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
     const Mat3& s = d[k].end.eq1;
     // σ33 ∝ W/A at a given z_cm/H: the footprint that would give the paper's σ33.
     const double area = std::abs(s(2, 2) / p[2][2]);
-    out << "- μ = " << cases[k].reference->friction << ": σ11, σ22, σ33 differ from the paper's by "
+    out << "- " << caseLabel(cases[k]) << ": σ11, σ22, σ33 differ from the paper's by "
         << pct((s(0, 0) - p[0][0]) / std::abs(p[0][0]), "%+.1f %%") << ", "
         << pct((s(1, 1) - p[1][1]) / std::abs(p[1][1]), "%+.1f %%") << ", "
         << pct((s(2, 2) - p[2][2]) / std::abs(p[2][2]), "%+.1f %%")
@@ -353,7 +363,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
     return it == cases[k].fields.end() ? std::nan("") : it->second;
   };
   out << "| | ";
-  for (const CaseOutcome& c : cases) out << "μ = " << c.reference->friction << " | ";
+  for (const CaseOutcome& c : cases) out << caseLabel(c) << " | ";
   out << "\n|---|";
   for (std::size_t k = 0; k < cases.size(); ++k) out << "---|";
   out << "\n";
@@ -389,7 +399,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const double centre = f(k, "sigma33_mid_centre_Pa"), walls = f(k, "sigma33_mid_walls_Pa");
     const double convexity = centre / walls - 1.0;
-    out << "- μ = " << cases[k].reference->friction << ": at mid-depth |σ33| is "
+    out << "- " << caseLabel(cases[k]) << ": at mid-depth |σ33| is "
         << pct(std::abs(convexity), "%.0f %%") << (convexity >= 0 ? " larger" : " smaller")
         << " at the centre than at the walls"
         << (convexity > 0 ? " (convex, peaked at the centre)" : "") << "; σ1 is tilted "

@@ -30,6 +30,7 @@ struct CaseOutcome {
   SettleSummary settle;
   double boxSide = 0;          ///< [m]
   double density = 0;          ///< density used [kg/m³]
+  double friction = 0;         ///< μ of the scene run (the paper's case may differ: --scenes)
   double timeStep = 0;         ///< [s]
   double contactDuration = 0;  ///< [s]
   std::string integrator;

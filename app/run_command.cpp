@@ -22,6 +22,7 @@
 #include "progress.hpp"
 #include "run_header.hpp"
 #include "run_progress.hpp"
+#include "stop_signals.hpp"
 #include "vtk_snapshot.hpp"
 
 namespace granular::app {
@@ -33,13 +34,7 @@ namespace {
 /// snapshot_<stage>_<time>.csv: the stage is part of the name because snapshot times are on
 /// each stage's own clock, so two stages can pass the same time.
 std::string safeName(const std::string& stage) {
-  std::string safe;
-  for (char c : stage) {
-    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                       c == '-' || c == '_';
-    safe += plain ? c : '_';
-  }
-  return safe;
+  return fileSafeName(stage);
 }
 
 std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const std::string& stage,
@@ -62,7 +57,7 @@ constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
 void writeParaviewSnapshot(const std::filesystem::path& outDir, const Scene& scene,
                            const RunProgress& progress, std::size_t k, double time,
                            const Simulation& sim) {
-  std::filesystem::create_directories(outDir / "paraview");
+  createOutputFolder(outDir / "paraview");
   const std::string& stage = scene.stages[k].name;
   writeParticlesVtp(outDir / paraviewPath(stage, time, "particles"), sim);
   writeContactsVtp(outDir / paraviewPath(stage, time, "contacts"), sim);
@@ -138,7 +133,20 @@ Start startOrResume(const RunOptions& options, const Scene& scene, std::uint64_t
   return {buildSimulation(scene), RunProgress{}, false};
 }
 
+/// After a stop signal, with the checkpoint written: the way back, then Interrupted.
+[[noreturn]] void stopAndSayHowToResume(const RunOptions& options,
+                                        const std::filesystem::path& outDir,
+                                        const Simulation& sim) {
+  throw Interrupted(
+      stopSignal(),
+      "stopped by " + signalName(stopSignal()) + " at t = " + format("%.9g", sim.time()) +
+          " s, step " + std::to_string(sim.stepCount()) + "; checkpoint " +
+          (outDir / "checkpoint.bin").string() + " written. Continue with: granular run " +
+          options.scene.string() + " --out " + outDir.string() + " --resume");
+}
+
 int runScene(const RunOptions& options) {
+  catchStopSignals();
   const auto started = std::chrono::steady_clock::now();
   if (!(options.checkpointEvery >= 0.0)) {
     throw ConfigError("--checkpoint-every must be >= 0 seconds (0: no checkpoints)");
@@ -150,7 +158,7 @@ int runScene(const RunOptions& options) {
   const std::filesystem::path outDir = options.outDir.empty()
                                            ? std::filesystem::path("runs") / options.scene.stem()
                                            : options.outDir;
-  std::filesystem::create_directories(outDir);
+  createOutputFolder(outDir);
   const std::filesystem::path checkpoint = outDir / "checkpoint.bin";
   Start start = startOrResume(options, scene, fingerprint, checkpoint);
   Simulation& sim = start.sim;
@@ -181,6 +189,8 @@ int runScene(const RunOptions& options) {
   auto lastWritten = std::chrono::steady_clock::now();
   std::optional<std::pair<double, std::uint64_t>> lastGood;  // its time and step
   auto save = [&](const Simulation& s) {
+    // The checkpoint counts the series' bytes: they must be on the disk before it is.
+    series->sync();
     progress.seriesBytes = series->bytes();
     writeCheckpoint(s, checkpoint, fingerprint, encodeRunProgress(progress));
     lastWritten = std::chrono::steady_clock::now();
@@ -208,6 +218,11 @@ int runScene(const RunOptions& options) {
           progress.inStage = p;
           save(s);
         }
+        if (stopSignal() != 0 && p.steps % 100 == 0) {
+          progress.inStage = p;
+          save(s);
+          stopAndSayHowToResume(options, outDir, s);
+        }
         if (fault && s.stepCount() == fault->first && fault->second < s.particles().size()) {
           auto& v = const_cast<Particles&>(s.particles()).velocity[fault->second];
           v.x() = std::numeric_limits<double>::quiet_NaN();
@@ -224,7 +239,10 @@ int runScene(const RunOptions& options) {
       progress.finished.push_back({result, secondsSince(stageStart)});
       progress.stage = k + 1;
       progress.inStage = StageProgress{};
-      if (options.checkpointEvery > 0) save(sim);
+      if (options.checkpointEvery > 0 || stopSignal() != 0) save(sim);
+      if (stopSignal() != 0 && k + 1 < scene.stages.size()) {
+        stopAndSayHowToResume(options, outDir, sim);
+      }
       std::cout << "stage " << stage.name << ": " << reasonText(result.reason) << " after "
                 << format("%.6g", result.duration) << " s (" << result.steps << " steps, "
                 << format("%.1f", progress.finished.back().wallSeconds) << " s wall-clock), KE "

@@ -8,6 +8,7 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
+#include "stop_signals.hpp"
 
 namespace granular::app {
 
@@ -71,6 +72,14 @@ std::vector<std::string> reactionWallNames(const Scene& scene) {
   return walls;
 }
 
+void createOutputFolder(const std::filesystem::path& folder) {
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) {
+    throw IoError(folder.string() + ": cannot create the output folder: " + ec.message());
+  }
+}
+
 int withErrorMapping(const std::function<int()>& body) {
   try {
     return body();
@@ -85,6 +94,12 @@ int withErrorMapping(const std::function<int()>& body) {
     return 2;
   } catch (const IoError& e) {
     std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  } catch (const Interrupted& e) {
+    std::cerr << e.what() << "\n";
+    return 128 + e.signal();
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: out of memory (std::bad_alloc)\n";
     return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

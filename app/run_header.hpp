@@ -25,8 +25,12 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
 /// place it. Fixed before the run because CSV columns cannot be added later.
 std::vector<std::string> reactionWallNames(const Scene& scene);
 
+/// Creates `folder` and its parents (IoError naming it and the reason).
+void createOutputFolder(const std::filesystem::path& folder);
+
 /// Runs `body`, mapping exceptions to a message on stderr and an exit status: 2 for an invalid
-/// scene, configuration or checkpoint, 1 for I/O and anything else.
+/// scene, configuration or checkpoint, 1 for I/O and anything else, 128 + the signal's number
+/// for a stop by SIGTERM or SIGINT (stop_signals.hpp).
 int withErrorMapping(const std::function<int()>& body);
 
 }  // namespace granular::app

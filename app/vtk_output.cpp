@@ -13,7 +13,8 @@
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLPolyDataWriter.h>
 
-#include "csv_output.hpp"
+#include "granular/error.hpp"
+#include "vtk_xml_file.hpp"
 
 namespace granular::app {
 
@@ -36,9 +37,8 @@ void writeVti(const std::filesystem::path& file, const Vec3& origin, const Vec3&
     image->GetPointData()->AddArray(data);
   }
   vtkNew<vtkXMLImageDataWriter> writer;
-  writer->SetFileName(file.c_str());
   writer->SetInputData(image);
-  if (writer->Write() != 1) throw IoError(file.string() + ": VTK could not write it");
+  writeVtkXml(*writer, file);
 }
 
 void writeVtpLines(const std::filesystem::path& file, const std::vector<std::vector<Vec3>>& lines) {
@@ -57,9 +57,8 @@ void writeVtpLines(const std::filesystem::path& file, const std::vector<std::vec
   poly->SetLines(cells);
   poly->GetCellData()->AddArray(ids);
   vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetFileName(file.c_str());
   writer->SetInputData(poly);
-  if (writer->Write() != 1) throw IoError(file.string() + ": VTK could not write it");
+  writeVtkXml(*writer, file);
 }
 
 }  // namespace granular::app

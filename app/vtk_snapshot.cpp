@@ -12,11 +12,11 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <cmath>
-#include <fstream>
 #include <string>
 
-#include "csv_output.hpp"
+#include "granular/output_file.hpp"
 #include "granular/stress.hpp"
+#include "vtk_xml_file.hpp"
 
 namespace granular::app {
 
@@ -36,9 +36,8 @@ void setVec(vtkDoubleArray* a, vtkIdType i, const Vec3& v) {
 
 void write(const std::filesystem::path& file, vtkPolyData* poly) {
   vtkNew<vtkXMLPolyDataWriter> writer;
-  writer->SetFileName(file.c_str());
   writer->SetInputData(poly);
-  if (writer->Write() != 1) throw IoError(file.string() + ": VTK could not write it");
+  writeVtkXml(*writer, file);
 }
 
 }  // namespace
@@ -165,21 +164,18 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
 }
 
 void writePvd(const std::filesystem::path& file, const std::vector<PvdEntry>& entries) {
-  const std::filesystem::path temporary = file.string() + ".tmp";
-  {
-    std::ofstream out(temporary);
-    out << "<?xml version=\"1.0\"?>\n"
-           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-           "  <Collection>\n";
-    out.precision(17);
-    for (const PvdEntry& e : entries) {
-      out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"0\" file=\""
-          << e.file.generic_string() << "\"/>\n";
-    }
-    out << "  </Collection>\n</VTKFile>\n";
-    if (!out) throw IoError(temporary.string() + ": cannot write");
+  AtomicFile pvd(file);
+  std::ostream& out = pvd.stream();
+  out << "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "  <Collection>\n";
+  out.precision(17);
+  for (const PvdEntry& e : entries) {
+    out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"0\" file=\""
+        << e.file.generic_string() << "\"/>\n";
   }
-  std::filesystem::rename(temporary, file);
+  out << "  </Collection>\n</VTKFile>\n";
+  pvd.commit();
 }
 
 }  // namespace granular::app

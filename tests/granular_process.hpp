@@ -62,6 +62,8 @@ class GranularProcess {
     return WIFEXITED(wstatus_) ? WEXITSTATUS(wstatus_) : -WTERMSIG(wstatus_);
   }
   void kill() { ::kill(pid_, SIGKILL); }
+  /// Sends `sig` (SIGTERM, SIGINT: what a batch scheduler or Ctrl-C sends).
+  void signal(int sig) { ::kill(pid_, sig); }
   std::string stderrText() const { return readFile(stderrFile_); }
 
  private:

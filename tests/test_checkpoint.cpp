@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "granular/checkpoint.hpp"
+#include "granular/error.hpp"
 #include "physics_fixtures.hpp"
 
 using namespace granular;
@@ -83,7 +84,44 @@ TEST(Checkpoint, DamagedOrForeignFilesAreRefused) {
   }
   expectError("not a granular checkpoint");
   std::filesystem::remove(file);
-  expectError("cannot open");
+  // Not a checkpoint problem but an I/O one (exit status 1), still naming the file.
+  auto expectIoError = [](const std::filesystem::path& path, const char* phrase) {
+    try {
+      readCheckpoint(path, 7);
+      ADD_FAILURE() << "read " << path << " as a checkpoint";
+    } catch (const IoError& e) {
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    }
+  };
+  expectIoError(file, "No such file");
+  std::filesystem::create_directory(file);  // a folder where the checkpoint should be
+  expectIoError(file, "it is a folder");
+  std::filesystem::remove(file);
+  // A device is never read (an endless one like /dev/zero would be read until memory ran out).
+  expectIoError("/dev/zero", "not a regular file");
+}
+
+// A file that claims to be a checkpoint is read only once its size matches its header: a length
+// field corrupted to 2^62 is refused before anything of that size is allocated.
+TEST(Checkpoint, AnAnnouncedPayloadLargerThanTheFileIsRefusedBeforeReading) {
+  Simulation sim = fallingGrid(2, 2, 2, frictionalGear(), 0.3);
+  const auto file = tempFile("huge-header.ckpt");
+  writeCheckpoint(sim, file, 7);
+  const std::uint64_t claimed = 1ULL << 62;
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(8 + 4 + 8);  // magic, version, fingerprint: the payload length follows
+    f.write(reinterpret_cast<const char*>(&claimed), sizeof claimed);
+  }
+  try {
+    readCheckpoint(file, 7);
+    ADD_FAILURE() << "accepted a checkpoint announcing a 2^62-byte payload";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("4611686018427387904-byte payload"), std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(file);
 }
 
 TEST(Checkpoint, CallersDataTravelsWithTheState) {

@@ -84,8 +84,18 @@ TEST(Compaction, SettledCheckpointIsReusedBitForBit) {
     EXPECT_EQ(first.samples[k].box.eq1, second.samples[k].box.eq1);
     EXPECT_EQ(first.samples[k].box.topForce, second.samples[k].box.topForce);
   }
-  // A checkpoint of another scene is not used: stage 1 runs again.
+  EXPECT_TRUE(second.checkpointRefused.empty()) << second.checkpointRefused;
+  // A checkpoint of another scene, or a damaged one, is not used: stage 1 runs again, and the
+  // result says why, so that the caller can tell the user.
   options.fingerprint ^= 1;
-  EXPECT_FALSE(runCompaction(scene, options).settleRestored);
+  const CompactionResult foreign = runCompaction(scene, options);
+  EXPECT_FALSE(foreign.settleRestored);
+  EXPECT_NE(foreign.checkpointRefused.find("another scene"), std::string::npos)
+      << foreign.checkpointRefused;
+  std::filesystem::resize_file(options.checkpoint, 100);
+  const CompactionResult damaged = runCompaction(scene, options);
+  EXPECT_FALSE(damaged.settleRestored);
+  EXPECT_NE(damaged.checkpointRefused.find("truncated"), std::string::npos)
+      << damaged.checkpointRefused;
   std::filesystem::remove_all(dir);
 }

@@ -682,7 +682,11 @@ TEST(HardCase, SceneWithAParticleOutsideOrOverlappingNamesIt) {
   second.count = 1;
   overlapping.generators.push_back(second);
   msg = error(overlapping);
-  EXPECT_NE(msg.find("particles 1 and 4"), std::string::npos) << msg;
+  // Both named by their index and by the scene entry that made them.
+  EXPECT_NE(msg.find("particle 1 (particles[0], grid particle 1) and particle 4 (particles[1], "
+                     "grid particle 0) overlap"),
+            std::string::npos)
+      << msg;
 }
 
 // ---- 10. A million particles -------------------------------------------------------------------

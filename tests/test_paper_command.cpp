@@ -15,6 +15,7 @@
 #include <string>
 
 #include "paper_command.hpp"
+#include "paper_figures.hpp"
 
 namespace fs = std::filesystem;
 
@@ -48,7 +49,9 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   fs::create_directories(dir / "scenes");
   const std::string scene =
       readText(fs::path(GRANULAR_SOURCE_DIR) / "tests/scenes/reduced-compaction.toml");
-  std::ofstream(dir / "scenes/paper-mu0.toml") << scene;
+  // The first case is given friction: its report and figures must say μ = 0.1, not the
+  // paper's μ = 0 it is compared with.
+  std::ofstream(dir / "scenes/paper-mu0.toml") << scene << "\n[material]\nfriction = 0.1\n";
   std::ofstream(dir / "scenes/paper-mu03.toml") << scene << "\n[material]\nfriction = 0.3\n";
 
   granular::app::PaperOptions options;
@@ -60,7 +63,10 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   testing::internal::GetCapturedStdout();
   ASSERT_EQ(status, 0);
 
-  EXPECT_NE(readText(options.outDir / "report.md").find("Eq. (1)"), std::string::npos);
+  const std::string report = readText(options.outDir / "report.md");
+  EXPECT_NE(report.find("Eq. (1)"), std::string::npos);
+  EXPECT_NE(report.find("μ = 0.1 (compared with the paper's μ = 0)"), std::string::npos);
+  EXPECT_EQ(report.find("### μ = 0\n"), std::string::npos);
   for (const char* figure : {"fig02_falling_mu0", "fig03_settled_mu0", "fig04_forces_mu0",
                              "fig05_stresses_mu0", "fig06_settled_mu03", "fig07_forces_mu03",
                              "fig08_stresses_mu03", "fig09_sigma33", "fig10_trajectories"}) {
@@ -104,5 +110,61 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
     for (int w = 0; w < 6; ++w) vertical += reaction->GetComponent(w, 2);
     EXPECT_NEAR(vertical, -20.0 * 9.81, 0.05 * 20.0 * 9.81);
   }
+
+  // `granular figures` on the run without its first case draws what it can and fails, naming
+  // every figure it could not draw and the file missing for it.
+  const fs::path partial = dir / "partial";
+  fs::copy(options.outDir, partial, fs::copy_options::recursive);
+  fs::remove_all(partial / "mu0");
+  fs::remove_all(partial / "figures");
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(granular::app::figuresCommand(partial), 1);
+  testing::internal::GetCapturedStdout();
+  const std::string message = testing::internal::GetCapturedStderr();
+  // Of 16 figures, 8 need mu0/: Fig. 2, Figs. 3-5 and the four of its stress fields.
+  EXPECT_NE(message.find("drew 8 of 16 figures"), std::string::npos) << message;
+  EXPECT_NE(message.find("fig02_falling_mu0.png (mu0/falling_t1.csv is missing)"),
+            std::string::npos)
+      << message;
+  EXPECT_TRUE(fs::exists(partial / "figures/fig06_settled_mu03.png"));
+  fs::remove_all(dir);
+}
+
+// Nothing to draw is a failure, not a success that drew nothing.
+TEST(PaperCommand, FiguresOfAFolderWithoutARunIsAnError) {
+  const fs::path dir = fs::temp_directory_path() / "granular_figures_nothing";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "run");
+  std::ofstream(dir / "run/timeseries.csv") << "stage,time_s\n";  // a `granular run` folder
+  for (const fs::path& folder : {dir / "run", dir / "empty"}) {
+    fs::create_directories(folder);
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(granular::app::figuresCommand(folder), 1) << folder;
+    const std::string message = testing::internal::GetCapturedStderr();
+    EXPECT_NE(message.find("nothing to draw"), std::string::npos) << message;
+  }
+  fs::remove_all(dir);
+}
+
+// An existing folder that holds somebody's other work is not overwritten without --force.
+TEST(PaperCommand, AnUnrelatedFolderIsNotOverwritten) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_unrelated";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "report.md") << "my own report\n";
+  granular::app::PaperOptions options;
+  options.scenesDir = fs::path(GRANULAR_SOURCE_DIR) / "assets/scenes";
+  options.outDir = dir;
+  options.quiet = true;
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(granular::app::paperCommand(options), 2);
+  testing::internal::GetCapturedStdout();
+  const std::string message = testing::internal::GetCapturedStderr();
+  EXPECT_NE(message.find("not a `granular paper` run folder"), std::string::npos) << message;
+  EXPECT_NE(message.find("--force"), std::string::npos) << message;
+  EXPECT_EQ(readText(dir / "report.md"), "my own report\n");
+  EXPECT_FALSE(fs::exists(dir / "mu0"));
   fs::remove_all(dir);
 }

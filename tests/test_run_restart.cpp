@@ -5,6 +5,8 @@
 /// last good state in the checkpoint, from which the run resumes to the same end.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -159,5 +161,41 @@ TEST(RunRestart, InjectedNaNStopsAtItsStepAndTheLastGoodStateResumes) {
   Child resumed(out, {"--checkpoint-every", "0", "--resume"});
   ASSERT_TRUE(resumed.started());
   ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
+  expectSameOutputs(reference, out);
+}
+
+// A batch scheduler's SIGTERM (and Ctrl-C's SIGINT) before its SIGKILL: the run finishes its
+// step, writes a checkpoint even though periodic ones are off, says how to resume, exits with
+// 128 + the signal; resumed, it ends bit for bit like a run never interrupted.
+TEST(RunRestart, SigtermAndSigintWriteACheckpointSayHowToResumeAndExit128PlusTheSignal) {
+  const fs::path reference = freshDir("signal_reference");
+  Child whole(reference, {"--checkpoint-every", "0"});
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  const fs::path out = freshDir("signalled");
+  const fs::path series = out / "timeseries.csv";
+  std::uintmax_t seriesBytes = 0;
+  for (int signal : {SIGTERM, SIGINT}) {
+    Child life(out, {"--checkpoint-every", "0", "--resume"});
+    ASSERT_TRUE(life.started());
+    // Mid-stage: a few more rows of the time series than the last life left.
+    while (life.running() && (!fs::exists(series) || fs::file_size(series) < seriesBytes + 4000)) {
+      std::this_thread::sleep_for(2ms);
+    }
+    ASSERT_TRUE(life.running()) << "the run ended before the signal; make the scene longer";
+    life.signal(signal);
+    ASSERT_EQ(life.wait(), 128 + signal) << life.stderrText();
+    const std::string message = life.stderrText();
+    EXPECT_NE(message.find(signal == SIGTERM ? "SIGTERM" : "SIGINT"), std::string::npos) << message;
+    EXPECT_NE(message.find("--resume"), std::string::npos) << message;
+    EXPECT_NE(message.find((out / "checkpoint.bin").string()), std::string::npos) << message;
+    EXPECT_NO_THROW(granular::readCheckpoint(out / "checkpoint.bin"));
+    EXPECT_FALSE(fs::exists(out / "summary.txt"));
+    seriesBytes = fs::file_size(series);
+  }
+  Child last(out, {"--checkpoint-every", "0", "--resume"});
+  ASSERT_TRUE(last.started());
+  ASSERT_EQ(last.wait(), 0) << last.stderrText();
   expectSameOutputs(reference, out);
 }

@@ -175,7 +175,11 @@ TEST(SceneBuilder, OverlappingParticlesNameBothIndices) {
                      "0.8,0.8,0.8,0.05,0,0,0\n"
                      "0.5,0.5,0.59,0.05,0,0,0\n");
   const std::string message = builderError(csvScene(file.path()));
-  EXPECT_NE(message.find("particles 1 and 3"), std::string::npos) << message;
+  // Both named by their index and by their line in the file (the header is line 1).
+  EXPECT_NE(message.find("particle 1 (particles[0], " + file.path().string() +
+                         ":3) and particle 3 (particles[0], " + file.path().string() + ":5)"),
+            std::string::npos)
+      << message;
 }
 
 TEST(SceneBuilder, TouchingParticlesAreAllowed) {

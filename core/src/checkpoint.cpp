@@ -2,10 +2,6 @@
 /// one order for both directions, the file frame.
 #include "granular/checkpoint.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -14,6 +10,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "granular/error.hpp"
+#include "granular/output_file.hpp"
 #include "pair_springs.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
@@ -213,53 +211,41 @@ struct Header {
   std::uint64_t payloadBytes;
 };
 
+/// The frame before the payload: magic, version, fingerprint, payload length.
+constexpr std::size_t kFrameBytes =
+    sizeof kMagic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+
+/// The whole file, read only once its size is what its header announces, so that a corrupted
+/// length or a file that is not a checkpoint (a folder, /dev/zero, a huge file) never makes it
+/// allocate more than the checkpoint it claims to be.
 std::vector<char> readAll(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw CheckpointError(file.string() + ": cannot open checkpoint");
-  return std::vector<char>(std::istreambuf_iterator<char>(in), {});
+  InputFile in(file, "checkpoint");
+  const std::uint64_t size = in.size();
+  if (size >= kFrameBytes + sizeof(std::uint64_t)) {
+    std::uint64_t payloadBytes = 0;
+    std::ifstream header(file, std::ios::binary);
+    header.seekg(std::streamoff(kFrameBytes - sizeof payloadBytes));
+    header.read(reinterpret_cast<char*>(&payloadBytes), sizeof payloadBytes);
+    if (header && size - kFrameBytes - sizeof(std::uint64_t) != payloadBytes) {
+      throw CheckpointError(
+          file.string() + ": truncated or padded checkpoint: " + std::to_string(size) +
+          " bytes, the header announces a " + std::to_string(payloadBytes) + "-byte payload in a " +
+          std::to_string(kFrameBytes + sizeof(std::uint64_t)) + "-byte frame");
+    }
+  }
+  const std::uint64_t available = availableMemoryBytes();
+  if (available > 0 && size > available) {
+    throw IoError(file.string() + ": cannot read checkpoint: " + std::to_string(size) +
+                  " bytes, more than the " + std::to_string(available) +
+                  " bytes of memory available");
+  }
+  return in.readAll(size);
 }
 
 template <class T>
 void put(std::vector<char>& out, const T& v) {
   const char* p = reinterpret_cast<const char*>(&v);
   out.insert(out.end(), p, p + sizeof(T));
-}
-
-/// Writes `bytes` to `file` and waits until they are on the disk (fsync), so that after a
-/// power cut the checkpoint renamed over the old one is whole, not an empty file.
-void writeDurably(const std::filesystem::path& file, const std::vector<char>& bytes) {
-  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    throw CheckpointError(file.string() + ": cannot write checkpoint: " + std::strerror(errno));
-  }
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string why = std::strerror(errno);
-      ::close(fd);
-      throw CheckpointError(file.string() + ": cannot write checkpoint: " + why);
-    }
-    done += std::size_t(n);
-  }
-  if (::fsync(fd) != 0) {
-    const std::string why = std::strerror(errno);
-    ::close(fd);
-    throw CheckpointError(file.string() + ": cannot flush checkpoint to disk: " + why);
-  }
-  if (::close(fd) != 0) {
-    throw CheckpointError(file.string() + ": cannot write checkpoint: " + std::strerror(errno));
-  }
-}
-
-/// Best effort: a folder that cannot be opened or synced (some file systems) leaves the rename
-/// as durable as the file system makes it.
-void syncFolder(const std::filesystem::path& folder) {
-  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  ::fsync(fd);
-  ::close(fd);
 }
 
 }  // namespace
@@ -282,20 +268,14 @@ void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
   out.insert(out.end(), payload.begin(), payload.end());
   put(out, fnv1a(payload.data(), payload.size()));
 
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  writeDurably(tmp, out);
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec)
-    throw CheckpointError(file.string() + ": cannot rename checkpoint into place: " + ec.message());
-  // The rename itself reaches the disk with the folder's entry.
-  syncFolder(file.has_parent_path() ? file.parent_path() : std::filesystem::path("."));
+  // On the disk before the rename, and the rename with the folder's entry: after a power cut
+  // the old or the new checkpoint is whole.
+  writeFileAtomically(file, std::string_view(out.data(), out.size()), /*durable=*/true);
 }
 
 CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
                                    std::uint64_t expectedFingerprint) {
-  const std::size_t frame = sizeof kMagic + sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t);
+  const std::size_t frame = kFrameBytes;
   if (bytes.size() < frame + sizeof(std::uint64_t) ||
       std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
     throw CheckpointError(name + ": not a granular checkpoint (bad magic or too short)");
@@ -350,7 +330,8 @@ Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expec
 }
 
 std::uint64_t fingerprintFile(const std::filesystem::path& file) {
-  const std::vector<char> bytes = readAll(file);
+  InputFile in(file, "file");
+  const std::vector<char> bytes = in.readAll(in.size());
   return fnv1a(bytes.data(), bytes.size());
 }
 

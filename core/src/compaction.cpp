@@ -89,8 +89,12 @@ CompactionResult runCompaction(const Scene& scene, const CompactionOptions& opti
     try {
       restored.emplace(readCheckpoint(options.checkpoint, options.fingerprint));
       result.settleRestored = true;
-    } catch (const CheckpointError&) {
-      restored.reset();  // stale or damaged: settle again and overwrite it
+    } catch (const CheckpointError& e) {
+      restored.reset();  // stale or damaged: settle again and overwrite it, saying why
+      result.checkpointRefused = e.what();
+    } catch (const IoError& e) {
+      restored.reset();
+      result.checkpointRefused = e.what();
     }
   }
   Simulation sim = restored ? std::move(*restored) : buildSimulation(scene);

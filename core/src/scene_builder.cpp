@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "granular/error.hpp"
+#include "granular/memory_estimate.hpp"
 #include "granular/scene.hpp"
 #include "grid_sampling.hpp"
 #include "number_format.hpp"
@@ -111,7 +112,8 @@ void checkInsideBox(const std::vector<CsvParticle>& particles, const BoxSpec& bo
 
 /// Cell search: cells of edge 2·R_max, so overlapping particles are in the same or adjacent cells.
 /// Sorting by cell and looking neighbours up by binary search is O(N log N) with no grid to size.
-void checkNoOverlap(const std::vector<CsvParticle>& particles) {
+void checkNoOverlap(const std::vector<CsvParticle>& particles,
+                    const std::function<std::string(std::size_t)>& describe) {
   if (particles.empty()) return;
   using Cell = std::array<long long, 3>;
   double maxRadius = 0.0;
@@ -151,10 +153,10 @@ void checkNoOverlap(const std::vector<CsvParticle>& particles) {
     }
     if (partner < particles.size()) {
       const double gap = (particles[partner].position - particles[i].position).norm();
-      throw ConfigError("particles " + std::to_string(i) + " and " + std::to_string(partner) +
-                        " overlap at start: centres " + formatPoint(particles[i].position) +
-                        " and " + formatPoint(particles[partner].position) + " are " +
-                        formatNumber(gap) + " m apart, radii sum " +
+      throw ConfigError(describe(i) + " and " + describe(partner) + " overlap at start: centres " +
+                        formatPoint(particles[i].position) + " and " +
+                        formatPoint(particles[partner].position) + " are " + formatNumber(gap) +
+                        " m apart, radii sum " +
                         formatNumber(particles[i].radius + particles[partner].radius) + " m");
     }
   }
@@ -169,7 +171,9 @@ struct BuiltParticles {
 
 BuiltParticles build(const Scene& scene) {
   std::vector<CsvParticle> all;
+  std::vector<std::size_t> firstOf;  // index in `all` of each generator's first particle
   for (std::size_t index = 0; index < scene.generators.size(); ++index) {
+    firstOf.push_back(all.size());
     if (const auto* grid = std::get_if<GridGenerator>(&scene.generators[index])) {
       checkGrid(*grid, index);
       forEachGridParticle(*grid, [&all](std::size_t, const CsvParticle& p) { all.push_back(p); });
@@ -179,8 +183,27 @@ BuiltParticles build(const Scene& scene) {
     }
   }
   if (all.empty()) throw ConfigError("the scene has no particles");
-  checkInsideBox(all, scene.box);
-  checkNoOverlap(all);
+  // Two generators may overlap each other: name the scene, its entry and the CSV line.
+  const std::string prefix = scene.sourceFile.empty() ? "" : scene.sourceFile.string() + ": ";
+  try {
+    checkInsideBox(all, scene.box);
+  } catch (const ConfigError& e) {
+    throw ConfigError(prefix + e.what());
+  }
+  try {
+    checkNoOverlap(all, [&](std::size_t i) {
+      const std::size_t entry =
+          std::size_t(std::upper_bound(firstOf.begin(), firstOf.end(), i) - firstOf.begin()) - 1;
+      const std::string particle =
+          "particle " + std::to_string(i) + " (particles[" + std::to_string(entry) + "], ";
+      if (const auto* csv = std::get_if<CsvGenerator>(&scene.generators[entry])) {
+        return particle + csv->path.string() + ":" + std::to_string(all[i].line) + ")";
+      }
+      return particle + "grid particle " + std::to_string(i - firstOf[entry]) + ")";
+    });
+  } catch (const ConfigError& e) {
+    throw ConfigError(prefix + e.what());
+  }
 
   BuiltParticles out;
   out.density = scene.simulation.material.density;
@@ -225,6 +248,7 @@ std::vector<Wall> buildWalls(const BoxSpec& box) {
 }
 
 Simulation buildSimulation(const Scene& scene) {
+  requireMemoryFor(scene);  // before anything per particle is allocated
   BuiltParticles built = build(scene);
   // The scaled density goes into the configuration so that sim.config().material.density tells
   // the density the particles really have.

@@ -84,6 +84,8 @@ constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
 constexpr double kMaxDensity = 1e12;  // [kg/m³]; far above any material, even density-scaled
 /// A stage longer than this many steps is a unit slip or a "forever"; it would never end.
 constexpr double kMaxStageSteps = 1e12;
+/// A scene file is a few hundred bytes; anything this large is the wrong file.
+constexpr std::uintmax_t kMaxSceneBytes = 16 << 20;
 
 std::vector<std::string_view> boxWallNames() {
   return {kBoxWallNames.begin(), kBoxWallNames.end()};
@@ -363,6 +365,17 @@ std::vector<WallMotion> readWallMotions(const TomlTableReader& stage, const std:
   for (std::size_t f = 0; f < kBoxWallNames.size(); ++f) {
     if (box.walls[f] || (f == 5 && topAvailable)) walls.push_back(kBoxWallNames[f]);
   }
+  // A face the box has no wall on is not a typo of another face: say which walls exist.
+  for (std::size_t f = 0; f < kBoxWallNames.size(); ++f) {
+    if (r.has(kBoxWallNames[f]) &&
+        std::find(walls.begin(), walls.end(), kBoxWallNames[f]) == walls.end()) {
+      std::string present;
+      for (std::string_view w : walls) present += (present.empty() ? "" : ", ") + std::string(w);
+      r.fail(kBoxWallNames[f], "the box has no " + std::string(kBoxWallNames[f]) +
+                                   " wall (box.walls lists " + present +
+                                   "): add it to box.walls to move it");
+    }
+  }
   r.expectOnly(walls);
   std::vector<WallMotion> motions;
   for (auto&& [key, node] : *table) {
@@ -385,6 +398,12 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
     if (s.name.empty()) r.fail("name", "must not be empty");
     for (const StageSpec& earlier : stages) {
       if (earlier.name == s.name) r.fail("name", "another stage has this name");
+      // Output files carry the stage's name with characters outside [A-Za-z0-9_-] as '_'.
+      if (fileSafeName(earlier.name) == fileSafeName(s.name)) {
+        r.fail("name", "names the same output files as stage '" + earlier.name +
+                           "' (both become '" + fileSafeName(s.name) +
+                           "' in file names); use letters, digits, '-' and '_' to tell them apart");
+      }
     }
     s.end.maxTime = r.number("max_time", Range::above(0));
     if (s.end.maxTime > kMaxStageSteps * timeStep) {
@@ -467,6 +486,12 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
   try {
     requireStableStep(scene.simulation.timeStep, scale, scene.simulation.integrator);
   } catch (const ConfigError& e) {
+    if (scene.totalMass) {
+      // The density, hence the contact duration, comes from total_mass: name both keys.
+      root.fail("total_mass", "gives the particles a density of " + formatNumber(material.density) +
+                                  " kg/m³, so " + e.what() +
+                                  "; raise total_mass or lower simulation.time_step");
+    }
     const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
     simulation.fail("time_step", e.what());
   }
@@ -476,11 +501,33 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
 
 // 8. loadScene ------------------------------------------------------------------------------------
 
+std::string fileSafeName(const std::string& name) {
+  std::string safe;
+  for (char c : name) {
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '-' || c == '_';
+    safe += plain ? c : '_';
+  }
+  return safe;
+}
+
 Scene loadScene(const std::filesystem::path& file) {
   const std::string name = file.string();
   std::error_code error;
-  if (!std::filesystem::is_regular_file(file, error)) {
-    throw SceneError(name + ": cannot open scene file");
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  if (!std::filesystem::exists(status)) {
+    throw SceneError(name + ": cannot open scene file: no such file");
+  }
+  if (std::filesystem::is_directory(status)) {
+    throw SceneError(name + ": cannot open scene file: it is a folder (give the .toml file)");
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    throw SceneError(name + ": cannot open scene file: not a regular file (a device or pipe?)");
+  }
+  if (std::filesystem::file_size(file, error) > kMaxSceneBytes) {
+    throw SceneError(name + ": cannot open scene file: larger than " +
+                     formatNumber(double(kMaxSceneBytes)) + " bytes; a scene is a few lines " +
+                     "(particles go in a CSV file)");
   }
   toml::table document;
   try {

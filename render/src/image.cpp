@@ -8,6 +8,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <ostream>
+
+#include "granular/output_file.hpp"
 
 namespace granular::render {
 
@@ -44,41 +47,45 @@ using File = std::unique_ptr<std::FILE, FileCloser>;
 
 }  // namespace
 
+namespace {
+
+/// libpng's output into the temporary of an AtomicFile, whose stream keeps any failure for
+/// commit() to report with the operating system's reason.
+void writeToStream(png_structp png, png_bytep data, png_size_t size) {
+  static_cast<std::ostream*>(png_get_io_ptr(png))
+      ->write(reinterpret_cast<const char*>(data), std::streamsize(size));
+}
+void flushStream(png_structp) {}
+
+}  // namespace
+
 void writePng(const Image& image, const std::filesystem::path& file, double dpi,
               int compressionLevel) {
   if (image.empty()) throw ImageError(file.string() + ": refusing to write an empty image");
-  std::filesystem::path tmp = file;
-  tmp += ".tmp";
-  {
-    File f(std::fopen(tmp.c_str(), "wb"));
-    if (!f) throw ImageError(file.string() + ": cannot create");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!png || !info) {
-      png_destroy_write_struct(&png, &info);
-      throw ImageError(file.string() + ": libpng could not start");
-    }
-    if (setjmp(png_jmpbuf(png))) {
-      png_destroy_write_struct(&png, &info);
-      throw ImageError(file.string() + ": libpng failed while writing");
-    }
-    png_init_io(png, f.get());
-    png_set_compression_level(png, std::clamp(compressionLevel, 0, 9));  // 1: encoding is costly
-    png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    const auto ppm = static_cast<png_uint_32>(std::lround(dpi / 0.0254));
-    png_set_pHYs(png, info, ppm, ppm, PNG_RESOLUTION_METER);
-    png_write_info(png, info);
-    for (int y = 0; y < image.height; ++y) {
-      png_write_row(png, image.pixels.data() + std::size_t(y) * image.width * 4);
-    }
-    png_write_end(png, nullptr);
+  AtomicFile out(file);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info) {
     png_destroy_write_struct(&png, &info);
-    if (std::fflush(f.get()) != 0) throw ImageError(file.string() + ": cannot write");
+    throw ImageError(file.string() + ": libpng could not start");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) throw ImageError(file.string() + ": cannot rename into place: " + ec.message());
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw ImageError(file.string() + ": libpng failed while writing");
+  }
+  png_set_write_fn(png, &out.stream(), writeToStream, flushStream);
+  png_set_compression_level(png, std::clamp(compressionLevel, 0, 9));  // 1: encoding is costly
+  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  const auto ppm = static_cast<png_uint_32>(std::lround(dpi / 0.0254));
+  png_set_pHYs(png, info, ppm, ppm, PNG_RESOLUTION_METER);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) {
+    png_write_row(png, image.pixels.data() + std::size_t(y) * image.width * 4);
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  out.commit();
 }
 
 Image readPng(const std::filesystem::path& file) {

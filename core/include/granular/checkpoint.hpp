@@ -7,8 +7,9 @@
 ///   "GRANCKPT" | u32 format version | u64 scene fingerprint | u64 payload bytes | payload |
 ///   u64 FNV-1a checksum of the payload
 /// where payload = the state's fields | u64 n | n bytes of the caller's data (appData).
-/// The file is written to "<path>.tmp" and renamed over <path>, so a crash never leaves a
-/// half-written checkpoint under the real name.
+/// The file is written to "<path>.tmp", flushed to the disk and renamed over <path>, so a crash
+/// never leaves a half-written checkpoint under the real name; a failed write (full disk, failed
+/// flush) throws IoError, removes the temporary and keeps the previous checkpoint.
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -46,7 +47,9 @@ struct CheckpointContents {
 
 /// Reads a checkpoint; with a non-zero `expectedFingerprint`, refuses one written for another
 /// scene. The state is checked for consistency (array sizes, contact indices, finite values,
-/// known enumerations) before it is used. Throws CheckpointError.
+/// known enumerations) before it is used. Throws CheckpointError for a file that is not a usable
+/// checkpoint, IoError for one that cannot be read (missing, a folder or device, a read error,
+/// larger than the memory available); the file is never read beyond what its header announces.
 Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expectedFingerprint = 0);
 CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
                                           std::uint64_t expectedFingerprint = 0);
@@ -54,7 +57,7 @@ CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
 CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
                                    std::uint64_t expectedFingerprint = 0);
 
-/// FNV-1a 64-bit hash of a file's bytes (throws CheckpointError if it cannot be read).
+/// FNV-1a 64-bit hash of a file's bytes (throws IoError if it cannot be read).
 std::uint64_t fingerprintFile(const std::filesystem::path& file);
 
 }  // namespace granular

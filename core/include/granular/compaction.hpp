@@ -50,7 +50,9 @@ struct CompactionSample {
 
 struct CompactionResult {
   StageResult settle;
-  bool settleRestored = false;              ///< stage 1 came from the checkpoint
+  bool settleRestored = false;  ///< stage 1 came from the checkpoint
+  /// Why an existing checkpoint was not restored (damaged, another scene, unreadable), or empty.
+  std::string checkpointRefused;
   double settleWallSeconds = 0;             ///< wall-clock time of stage 1 (0 when restored) [s]
   std::vector<SettleSample> settleHistory;  ///< empty when restored
   double settledHeight = 0;  ///< highest particle surface above the floor after stage 1 [m]

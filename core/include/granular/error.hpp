@@ -18,6 +18,15 @@ class SceneError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A file that cannot be opened, read, created or written in full: a folder or device where a
+/// file should be, a full disk, a failed flush to the disk. The message names the file and the
+/// operating system's reason ("out/timeseries.csv: cannot write: No space left on device").
+/// Programs exit with status 1 for it.
+class IoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// A state that stopped being a number (NaN or infinity) during a step, detected at the end of
 /// that step. The message names the step, the time and the first broken particle; the
 /// Simulation is unusable afterwards (restart from the last checkpoint, which is never written

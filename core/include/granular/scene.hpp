@@ -86,6 +86,10 @@ struct Scene {
   OutputSpec output;
 };
 
+/// A stage's name as output file names carry it: every character outside [A-Za-z0-9_-] becomes
+/// '_'. loadScene refuses two stages whose names map to the same file name.
+std::string fileSafeName(const std::string& name);
+
 /// Reads and validates a scene file. Throws SceneError naming the file, the key, the value and
 /// the allowed range on any unknown key, wrong type or out-of-range value.
 Scene loadScene(const std::filesystem::path& file);

@@ -34,9 +34,10 @@ class ImageError : public std::runtime_error {
 };
 
 /// Writes a PNG (8-bit RGBA, low compression: encoding costs more than drawing). Written to a
-/// temporary file and renamed, so a reader never sees half an image. `dpi` goes into the pHYs
-/// chunk so that publishers' tools size the figure right. `compressionLevel` 0-9 (9 for files
-/// kept in the repository, like golden images).
+/// temporary file and renamed, so a reader never sees half an image; a failed write throws
+/// granular::IoError naming the file and the reason, and keeps the previous file. `dpi` goes into
+/// the pHYs chunk so that publishers' tools size the figure right. `compressionLevel` 0-9 (9 for
+/// files kept in the repository, like golden images).
 void writePng(const Image& image, const std::filesystem::path& file, double dpi = 150.0,
               int compressionLevel = 1);
 /// Reads an 8-bit RGB or RGBA PNG (as written by writePng).
