@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "fnv1a.hpp"
 #include "pair_springs.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
@@ -28,15 +29,6 @@ struct SimulationAccess {
 namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'A', 'N', 'C', 'K', 'P', 'T'};
-
-std::uint64_t fnv1a(const char* data, std::size_t size) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= static_cast<unsigned char>(data[i]);
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
 
 // ---- The composite fields -----------------------------------------------------------------
 
