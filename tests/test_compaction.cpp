@@ -7,6 +7,7 @@
 
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/scene_fingerprint.hpp"
 
 using namespace granular;
 
@@ -72,9 +73,9 @@ TEST(Compaction, SettledCheckpointIsReusedBitForBit) {
   std::filesystem::create_directories(dir);
   CompactionOptions options;
   options.checkpoint = dir / "settled.ckpt";
-  options.fingerprint = fingerprintFile(kScene);
-  std::filesystem::remove(options.checkpoint);
   const Scene scene = reducedScene(0.3);
+  options.fingerprint = fingerprintScene(scene);
+  std::filesystem::remove(options.checkpoint);
   const CompactionResult first = runCompaction(scene, options);
   const CompactionResult second = runCompaction(scene, options);
   EXPECT_FALSE(first.settleRestored);
@@ -84,8 +85,16 @@ TEST(Compaction, SettledCheckpointIsReusedBitForBit) {
     EXPECT_EQ(first.samples[k].box.eq1, second.samples[k].box.eq1);
     EXPECT_EQ(first.samples[k].box.topForce, second.samples[k].box.topForce);
   }
-  // A checkpoint of another scene is not used: stage 1 runs again.
-  options.fingerprint ^= 1;
-  EXPECT_FALSE(runCompaction(scene, options).settleRestored);
+  EXPECT_TRUE(second.checkpointRefused.empty()) << second.checkpointRefused;
+  // A checkpoint of another scene is not used: stage 1 runs again, and the result says why.
+  Scene edited = scene;
+  edited.simulation.material.friction = 0.31;
+  options.fingerprint = fingerprintScene(edited);
+  const CompactionResult third = runCompaction(scene, options);
+  EXPECT_FALSE(third.settleRestored);
+  EXPECT_NE(third.checkpointRefused.find("the scene changed since this checkpoint was written: "
+                                         "[material] in "),
+            std::string::npos)
+      << third.checkpointRefused;
   std::filesystem::remove_all(dir);
 }

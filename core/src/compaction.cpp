@@ -89,8 +89,9 @@ CompactionResult runCompaction(const Scene& scene, const CompactionOptions& opti
     try {
       restored.emplace(readCheckpoint(options.checkpoint, options.fingerprint));
       result.settleRestored = true;
-    } catch (const CheckpointError&) {
+    } catch (const CheckpointError& e) {
       restored.reset();  // stale or damaged: settle again and overwrite it
+      result.checkpointRefused = e.what();
     }
   }
   Simulation sim = restored ? std::move(*restored) : buildSimulation(scene);
