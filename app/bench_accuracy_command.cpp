@@ -29,6 +29,7 @@
 #include "granular/error.hpp"
 #include "granular/impact_probe.hpp"
 #include "granular/render/plot.hpp"
+#include "granular/scene_fingerprint.hpp"
 #include "granular/series_error.hpp"
 #include "granular/stage.hpp"
 #include "granular/stress.hpp"
@@ -250,8 +251,8 @@ std::vector<Row> impactRows(const Plan& plan) {
 struct StageCase {
   const PaperReference* paper = nullptr;
   std::filesystem::path checkpoint;
-  std::uint64_t fingerprint = 0;  ///< of the scene file: a stale checkpoint is refused
-  StageSpec stage;                ///< the scene's stage 2
+  SceneFingerprint fingerprint;  ///< of the scene: a stale checkpoint is refused
+  StageSpec stage;               ///< the scene's stage 2
   OutputSpec output;
 };
 
@@ -269,7 +270,7 @@ StageCase loadStageCase(const PaperReference& paper, const BenchAccuracyOptions&
   if (scene.stages.size() != 2 || !scene.stages[1].placeTopWallOnSurface) {
     throw ConfigError(sceneFile.string() + ": not a two-stage compaction scene");
   }
-  c.fingerprint = fingerprintFile(sceneFile);
+  c.fingerprint = fingerprintScene(scene);
   try {
     readCheckpoint(c.checkpoint, c.fingerprint);
   } catch (const CheckpointError& e) {

@@ -16,6 +16,7 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/scene_fingerprint.hpp"
 #include "granular/stress.hpp"
 #include "paper_fields.hpp"
 #include "paper_figures.hpp"
@@ -199,7 +200,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
 
   CompactionOptions run;
   run.checkpoint = checkpoint;
-  run.fingerprint = fingerprintFile(sceneFile);
+  run.fingerprint = fingerprintScene(scene);
   run.onStart = [&](const Simulation& sim) {
     printHeader(std::cout, scene, sim, dir);
     outcome.density = sim.config().material.density;
@@ -251,6 +252,9 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   }
 
   const CompactionResult& r = outcome.result;
+  if (!r.checkpointRefused.empty()) {
+    std::cout << "not restored, settled again: " << r.checkpointRefused << "\n";
+  }
   if (!r.settleRestored) {
     SettleSummary& s = outcome.settle;
     s.endedBy = r.settle.reason == StageEndReason::KineticEnergy ? "kinetic energy below threshold"

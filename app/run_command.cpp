@@ -18,6 +18,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
+#include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
@@ -115,10 +116,22 @@ struct Start {
   bool resumed = false;
 };
 
-Start startOrResume(const RunOptions& options, const Scene& scene, std::uint64_t fingerprint,
-                    const std::filesystem::path& checkpoint) {
+/// The checkpoint of an interrupted run, refused (CheckpointError) when it is damaged or was
+/// written for another scene, or for this one before an edit that changes the run.
+CheckpointContents readResumable(const std::filesystem::path& checkpoint,
+                                 const SceneFingerprint& fingerprint) {
+  try {
+    return readCheckpointWithData(checkpoint, fingerprint);
+  } catch (const CheckpointError& e) {
+    throw CheckpointError(std::string(e.what()) + "; remove " + checkpoint.string() +
+                          " (or run without --resume) to start again");
+  }
+}
+
+Start startOrResume(const RunOptions& options, const Scene& scene,
+                    const SceneFingerprint& fingerprint, const std::filesystem::path& checkpoint) {
   if (options.resume && std::filesystem::exists(checkpoint)) {
-    CheckpointContents c = readCheckpointWithData(checkpoint, fingerprint);
+    CheckpointContents c = readResumable(checkpoint, fingerprint);
     RunProgress progress = decodeRunProgress(c.appData, checkpoint.string());
     if (progress.stage > scene.stages.size()) {
       throw CheckpointError(checkpoint.string() + ": names stage " +
@@ -152,7 +165,9 @@ int runScene(const RunOptions& options) {
     throw ConfigError("--checkpoint-every must be >= 0 seconds (0: no checkpoints)");
   }
   const Scene scene = loadScene(options.scene);
-  const std::uint64_t fingerprint = fingerprintFile(options.scene);
+  // The scene's values and the bytes of its particle files: a checkpoint of this scene before
+  // an edit that changes the run is refused, an edit of a comment is not.
+  const SceneFingerprint fingerprint = fingerprintScene(scene);
   const auto fault = injectedFault();
 
   const std::filesystem::path outDir = options.outDir.empty()

@@ -7,6 +7,7 @@
 
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/scene_fingerprint.hpp"
 
 using namespace granular;
 
@@ -72,9 +73,9 @@ TEST(Compaction, SettledCheckpointIsReusedBitForBit) {
   std::filesystem::create_directories(dir);
   CompactionOptions options;
   options.checkpoint = dir / "settled.ckpt";
-  options.fingerprint = fingerprintFile(kScene);
-  std::filesystem::remove(options.checkpoint);
   const Scene scene = reducedScene(0.3);
+  options.fingerprint = fingerprintScene(scene);
+  std::filesystem::remove(options.checkpoint);
   const CompactionResult first = runCompaction(scene, options);
   const CompactionResult second = runCompaction(scene, options);
   EXPECT_FALSE(first.settleRestored);
@@ -85,13 +86,18 @@ TEST(Compaction, SettledCheckpointIsReusedBitForBit) {
     EXPECT_EQ(first.samples[k].box.topForce, second.samples[k].box.topForce);
   }
   EXPECT_TRUE(second.checkpointRefused.empty()) << second.checkpointRefused;
-  // A checkpoint of another scene, or a damaged one, is not used: stage 1 runs again, and the
-  // result says why, so that the caller can tell the user.
-  options.fingerprint ^= 1;
-  const CompactionResult foreign = runCompaction(scene, options);
-  EXPECT_FALSE(foreign.settleRestored);
-  EXPECT_NE(foreign.checkpointRefused.find("another scene"), std::string::npos)
-      << foreign.checkpointRefused;
+  // A checkpoint of another scene is not used: stage 1 runs again, and the result says why.
+  Scene edited = scene;
+  edited.simulation.material.friction = 0.31;
+  options.fingerprint = fingerprintScene(edited);
+  const CompactionResult third = runCompaction(scene, options);
+  EXPECT_FALSE(third.settleRestored);
+  EXPECT_NE(third.checkpointRefused.find("the scene changed since this checkpoint was written: "
+                                         "[material] in "),
+            std::string::npos)
+      << third.checkpointRefused;
+  // A damaged one is not used either, and the result says so.
+  options.fingerprint = fingerprintScene(scene);
   std::filesystem::resize_file(options.checkpoint, 100);
   const CompactionResult damaged = runCompaction(scene, options);
   EXPECT_FALSE(damaged.settleRestored);

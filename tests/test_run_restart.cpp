@@ -7,6 +7,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -29,17 +30,18 @@ std::string slurp(const fs::path& file) {
   return granular::testing::readFile(file);
 }
 
-/// `granular run` of the restart scene into `out`, stderr beside it.
+/// `granular run` of `scene` (the restart scene unless given) into `out`, stderr beside it.
 class Child : public granular::testing::GranularProcess {
  public:
   Child(const fs::path& out, const std::vector<std::string>& extra,
-        std::vector<std::string> env = {})
-      : GranularProcess(arguments(out, extra), out.string() + ".stderr", std::move(env)) {}
+        std::vector<std::string> env = {}, const fs::path& scene = kScene)
+      : GranularProcess(arguments(out, extra, scene), out.string() + ".stderr", std::move(env)) {}
 
  private:
   static std::vector<std::string> arguments(const fs::path& out,
-                                            const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"run", kScene.string(), "--out", out.string(), "-q"};
+                                            const std::vector<std::string>& extra,
+                                            const fs::path& scene) {
+    std::vector<std::string> args = {"run", scene.string(), "--out", out.string(), "-q"};
     args.insert(args.end(), extra.begin(), extra.end());
     return args;
   }
@@ -162,6 +164,85 @@ TEST(RunRestart, InjectedNaNStopsAtItsStepAndTheLastGoodStateResumes) {
   ASSERT_TRUE(resumed.started());
   ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
   expectSameOutputs(reference, out);
+}
+
+// Issue 21, item 5: the checkpoint's fingerprint is the scene's values and the bytes of its
+// particle files, not the bytes of the scene file.
+
+TEST(RunRestart, ACommentEditedInTheSceneAfterAKillResumesBitForBit) {
+  const fs::path reference = freshDir("comment_reference");
+  Child whole(reference, {"--checkpoint-every", "0"});
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  const fs::path out = freshDir("comment");
+  fs::create_directories(out);
+  const fs::path scene = out.string() + ".toml";
+  fs::copy_file(kScene, scene, fs::copy_options::overwrite_existing);
+  Child life(out, {"--checkpoint-every", "1e-9"}, {}, scene);
+  ASSERT_TRUE(life.started());
+  if (!waitForNewCheckpoints(life, out / "checkpoint.bin", 1)) {
+    ADD_FAILURE() << "the run ended before it could be killed\n" << life.stderrText();
+    return;
+  }
+  life.kill();
+  ASSERT_EQ(life.wait(), -SIGKILL);
+  // A comment and blank lines added, and a number spelt otherwise: the same scene.
+  const std::string text = slurp(scene);
+  std::ofstream(scene, std::ios::trunc)
+      << "# edited while the run was down\n\n"
+      << text.substr(0, text.find("time_step = 1.5e-4")) << "time_step = 0.00015  # s\n"
+      << text.substr(text.find('\n', text.find("time_step = 1.5e-4")) + 1);
+  Child resumed(out, {"--checkpoint-every", "0", "--resume"}, {}, scene);
+  ASSERT_TRUE(resumed.started());
+  ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
+  expectSameOutputs(reference, out);
+  fs::remove(scene);
+}
+
+TEST(RunRestart, AParticleFileEditedAfterACheckpointIsRefusedNamingIt) {
+  // The issue's case: 64 particles in a CSV, the run stopped, the file cut to 54 rows and a
+  // particle moved.
+  const fs::path dir = freshDir("csv_edit");
+  fs::create_directories(dir);
+  auto csv = [](int rows, double shift) {
+    std::ostringstream text;
+    text << "x,y,z,r\n";
+    for (int k = 0; k < rows; ++k) {
+      text << 0.1 + 0.1 * (k % 4) + (k == 0 ? shift : 0.0) << ',' << 0.1 + 0.1 * ((k / 4) % 4)
+           << ',' << 0.1 + 0.1 * (k / 16) << ",0.03\n";
+    }
+    return text.str();
+  };
+  std::ofstream(dir / "particles.csv") << csv(64, 0.0);
+  std::ofstream(dir / "scene.toml") << "[material]\nfriction = 0.3\nnormal_damping = 200.0\n"
+                                       "[simulation]\ntime_step = 1.5e-4\n"
+                                       "[box]\nmin = [0, 0, 0]\nmax = [0.6, 0.6, 2]\n"
+                                       "[[particles]]\ntype = \"csv\"\nfile = \"particles.csv\"\n"
+                                       "[[stages]]\nmax_time = 0.03\n";
+  const fs::path out = dir / "out";
+  Child first(out, {"--checkpoint-every", "1e-9"}, {}, dir / "scene.toml");
+  ASSERT_TRUE(first.started());
+  ASSERT_EQ(first.wait(), 0) << first.stderrText();
+  ASSERT_TRUE(fs::exists(out / "checkpoint.bin"));
+
+  std::ofstream(dir / "particles.csv", std::ios::trunc) << csv(54, 0.01);
+  Child resumed(out, {"--resume"}, {}, dir / "scene.toml");
+  ASSERT_TRUE(resumed.started());
+  EXPECT_EQ(resumed.wait(), 2);
+  const std::string message = resumed.stderrText();
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+  EXPECT_NE(message.find((out / "checkpoint.bin").string() +
+                         ": the scene changed since this checkpoint was written: the particle "
+                         "file " +
+                         (dir / "particles.csv").string() + " (particles[0].file) changed"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("remove " + (out / "checkpoint.bin").string() +
+                         " (or run without --resume) to start again"),
+            std::string::npos)
+      << message;
+  fs::remove_all(dir);
 }
 
 // A batch scheduler's SIGTERM (and Ctrl-C's SIGINT) before its SIGKILL: the run finishes its

@@ -67,7 +67,7 @@ Scene csvScene(const fs::path& path) {
   Scene scene;
   scene.box.min = Vec3(0, 0, 0);
   scene.box.max = Vec3(1, 1, 1);
-  scene.generators.push_back(CsvGenerator{path});
+  scene.generators.push_back(CsvGenerator{path, {}});
   return scene;
 }
 

@@ -9,6 +9,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
+#include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
 #include "granular/stress.hpp"
 
@@ -152,13 +153,13 @@ void SimRunner::setIntegrator(Integrator integrator, double timeStep) {
 }
 void SimRunner::saveCheckpoint(const std::filesystem::path& file) {
   send([this, file] {
-    writeCheckpoint(*sim_, file, fingerprintFile(scene_.sourceFile), std::to_string(stage_));
+    writeCheckpoint(*sim_, file, fingerprintScene(scene_), std::to_string(stage_));
     message_ = "saved " + file.string();
   });
 }
 void SimRunner::loadCheckpoint(const std::filesystem::path& file) {
   send([this, file] {
-    CheckpointContents c = readCheckpointWithData(file, fingerprintFile(scene_.sourceFile));
+    CheckpointContents c = readCheckpointWithData(file, fingerprintScene(scene_));
     sim_.emplace(std::move(c.simulation));
     stage_ = c.appData == "2" || sim_->findWall("top") >= 0 ? 2 : 1;
     energyStart_ = sim_->energy().total();

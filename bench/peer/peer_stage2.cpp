@@ -26,6 +26,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
+#include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
 #include "granular/stress.hpp"
 #include "peer_export.hpp"
@@ -61,7 +62,7 @@ Simulation restoreSettled(const Options& o) {
                           " not found. Make it with:\n  " + kMakeCheckpoint);
   }
   try {
-    return readCheckpoint(o.checkpoint, fingerprintFile(o.scene));
+    return readCheckpoint(o.checkpoint, fingerprintScene(loadScene(o.scene)));
   } catch (const CheckpointError& e) {
     // `granular paper` settles again over a stale checkpoint by itself.
     throw CheckpointError(std::string(e.what()) + "\nRe-make it with:\n  " + kMakeCheckpoint);

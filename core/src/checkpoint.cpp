@@ -2,6 +2,7 @@
 /// one order for both directions, the file frame.
 #include "granular/checkpoint.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -10,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "fnv1a.hpp"
 #include "granular/error.hpp"
 #include "granular/output_file.hpp"
 #include "pair_springs.hpp"
@@ -27,16 +29,18 @@ namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'A', 'N', 'C', 'K', 'P', 'T'};
 
-std::uint64_t fnv1a(const char* data, std::size_t size) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (std::size_t i = 0; i < size; ++i) {
-    h ^= static_cast<unsigned char>(data[i]);
-    h *= 1099511628211ULL;
-  }
-  return h;
-}
-
 // ---- The composite fields -----------------------------------------------------------------
+
+/// A fingerprint part as the file holds it (its label is for messages only).
+struct StoredPart {
+  std::string key;
+  std::uint64_t hash = 0;
+};
+
+template <class Io>
+void fields(Io& io, StoredPart& p) {
+  io(p.key), io(p.hash);
+}
 
 template <class Io>
 void fields(Io& io, Wall& w) {
@@ -227,10 +231,10 @@ std::vector<char> readAll(const std::filesystem::path& file) {
     header.seekg(std::streamoff(kFrameBytes - sizeof payloadBytes));
     header.read(reinterpret_cast<char*>(&payloadBytes), sizeof payloadBytes);
     if (header && size - kFrameBytes - sizeof(std::uint64_t) != payloadBytes) {
-      throw CheckpointError(
-          file.string() + ": truncated or padded checkpoint: " + std::to_string(size) +
-          " bytes, the header announces a " + std::to_string(payloadBytes) + "-byte payload in a " +
-          std::to_string(kFrameBytes + sizeof(std::uint64_t)) + "-byte frame");
+      throw CheckpointError(file.string() + ": truncated or padded checkpoint: " +
+                            std::to_string(size) + " bytes, the header announces a " +
+                            std::to_string(payloadBytes) + "-byte payload in a " +
+                            std::to_string(kFrameBytes + sizeof(std::uint64_t)) + "-byte frame");
     }
   }
   const std::uint64_t available = availableMemoryBytes();
@@ -250,20 +254,25 @@ void put(std::vector<char>& out, const T& v) {
 
 }  // namespace
 
-void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
-                     std::uint64_t sceneFingerprint, const std::string& appData) {
+namespace {
+
+/// The frame around the payload: header, parts, state, caller's data, checksum.
+void writeFrame(const Simulation& sim, const std::filesystem::path& file,
+                std::uint64_t headerFingerprint, std::vector<StoredPart> parts,
+                const std::string& appData) {
   const SimulationState& state = SimulationAccess::state(sim);
   if (const std::optional<std::string> bad = firstNonFiniteParticle(state.particles)) {
     throw CheckpointError(file.string() + ": not writing a checkpoint of a broken state: " + *bad);
   }
   Writer w;
+  w(parts);
   fields(w, const_cast<SimulationState&>(state));  // read only
   std::string data = appData;
   w(data);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
-  put(out, sceneFingerprint);
+  put(out, headerFingerprint);
   put(out, static_cast<std::uint64_t>(payload.size()));
   out.insert(out.end(), payload.begin(), payload.end());
   put(out, fnv1a(payload.data(), payload.size()));
@@ -273,8 +282,36 @@ void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
   writeFileAtomically(file, std::string_view(out.data(), out.size()), /*durable=*/true);
 }
 
-CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
-                                   std::uint64_t expectedFingerprint) {
+/// Each part of `expected` that the checkpoint's parts lack or hold with another hash, and each
+/// part the checkpoint has that `expected` lacks, in words; empty when they are the same.
+std::string differences(const std::vector<StoredPart>& stored, const SceneFingerprint& expected) {
+  std::string out;
+  auto add = [&out](const std::string& what) { out += (out.empty() ? "" : "; ") + what; };
+  for (const FingerprintPart& part : expected.parts) {
+    const auto it = std::find_if(stored.begin(), stored.end(),
+                                 [&](const StoredPart& s) { return s.key == part.key; });
+    if (it == stored.end()) {
+      add(part.label + " is new");
+    } else if (it->hash != part.hash) {
+      add(part.label + " changed");
+    }
+  }
+  for (const StoredPart& s : stored) {
+    const auto it = std::find_if(expected.parts.begin(), expected.parts.end(),
+                                 [&](const FingerprintPart& part) { return part.key == s.key; });
+    if (it == expected.parts.end()) add("the scene no longer has " + s.key);
+  }
+  return out;
+}
+
+/// What a reader insists on: nothing, a header number, or a scene's parts.
+struct Expectation {
+  std::uint64_t header = 0;  ///< 0: any
+  const SceneFingerprint* scene = nullptr;
+};
+
+CheckpointContents parseFrame(std::span<const char> bytes, const std::string& name,
+                              const Expectation& expected) {
   const std::size_t frame = kFrameBytes;
   if (bytes.size() < frame + sizeof(std::uint64_t) ||
       std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) {
@@ -289,10 +326,9 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   pos += sizeof fingerprint;
   std::memcpy(&payloadBytes, bytes.data() + pos, sizeof payloadBytes);
   pos += sizeof payloadBytes;
-  if (version != kCheckpointVersion && version != 2) {
+  if (version < 2 || version > kCheckpointVersion) {
     throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
-                          ", this build reads versions 2 and " +
-                          std::to_string(kCheckpointVersion));
+                          ", this build reads versions 2 to " + std::to_string(kCheckpointVersion));
   }
   // Compared without adding to payloadBytes, which a corrupted header can make overflow.
   if (bytes.size() - frame - sizeof checksum != payloadBytes) {
@@ -305,11 +341,25 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   if (checksum != fnv1a(bytes.data() + pos, payloadBytes)) {
     throw CheckpointError(name + ": corrupted checkpoint: checksum mismatch");
   }
-  if (expectedFingerprint != 0 && fingerprint != expectedFingerprint) {
+  Reader r(bytes.data() + pos, payloadBytes, name);
+  std::vector<StoredPart> parts;
+  if (version >= 4) r(parts);
+  if (expected.header != 0 && fingerprint != expected.header) {
     throw CheckpointError(name + ": checkpoint belongs to another scene (fingerprint mismatch)");
   }
+  if (expected.scene && version < 4) {
+    throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
+                          " identifies its scene by the scene file's bytes alone, not by its "
+                          "values and particle files, so it cannot be checked against this scene");
+  }
+  if (expected.scene) {
+    const std::string changed = differences(parts, *expected.scene);
+    if (!changed.empty()) {
+      throw CheckpointError(name +
+                            ": the scene changed since this checkpoint was written: " + changed);
+    }
+  }
   auto state = std::make_unique<SimulationState>();
-  Reader r(bytes.data() + pos, payloadBytes, name);
   fields(r, *state);
   std::string appData;
   if (version >= 3) r(appData);
@@ -317,6 +367,41 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   validateRestoredState(*state, name);
   state->neighbours.plan.valid = false;  // derived data: built by the next force pass
   return {SimulationAccess::make(std::move(state)), std::move(appData)};
+}
+
+std::vector<StoredPart> storedParts(const SceneFingerprint& fingerprint) {
+  std::vector<StoredPart> parts;
+  for (const FingerprintPart& part : fingerprint.parts) parts.push_back({part.key, part.hash});
+  return parts;
+}
+
+}  // namespace
+
+std::uint64_t SceneFingerprint::combined() const {
+  Writer w;
+  std::vector<StoredPart> stored = storedParts(*this);
+  w(stored);
+  return fnv1a(w.bytes().data(), w.bytes().size());
+}
+
+void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
+                     const SceneFingerprint& sceneFingerprint, const std::string& appData) {
+  writeFrame(sim, file, sceneFingerprint.combined(), storedParts(sceneFingerprint), appData);
+}
+
+void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
+                     std::uint64_t sceneFingerprint, const std::string& appData) {
+  writeFrame(sim, file, sceneFingerprint, {}, appData);
+}
+
+CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
+                                   std::uint64_t expectedFingerprint) {
+  return parseFrame(bytes, name, {expectedFingerprint, nullptr});
+}
+
+CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::string& name,
+                                   const SceneFingerprint& expected) {
+  return parseFrame(bytes, name, {0, &expected});
 }
 
 CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
@@ -327,6 +412,16 @@ CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
 
 Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expectedFingerprint) {
   return std::move(readCheckpointWithData(file, expectedFingerprint).simulation);
+}
+
+CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
+                                          const SceneFingerprint& expected) {
+  const std::vector<char> bytes = readAll(file);
+  return parseCheckpoint(bytes, file.string(), expected);
+}
+
+Simulation readCheckpoint(const std::filesystem::path& file, const SceneFingerprint& expected) {
+  return std::move(readCheckpointWithData(file, expected).simulation);
 }
 
 std::uint64_t fingerprintFile(const std::filesystem::path& file) {

@@ -1,21 +1,25 @@
-/// Particle CSV reader (see particle_csv.hpp).
+/// Particle CSV reader (see particle_csv.hpp). Sections: 1. fields and numbers; 2. the header;
+/// 3. the rows.
 #include "particle_csv.hpp"
 
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "fnv1a.hpp"
 #include "granular/error.hpp"
+#include "nearest_name.hpp"
 
 namespace granular {
 
 namespace {
 
-constexpr std::array<const char*, 7> kColumns = {"x", "y", "z", "r", "vx", "vy", "vz"};
+// 1. Fields and numbers ---------------------------------------------------------------------------
 
 std::string_view trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\r");
@@ -54,54 +58,183 @@ bool isNumericLine(std::string_view line) {
   return true;
 }
 
+// 2. The header -----------------------------------------------------------------------------------
+
+/// The quantities a row can give, in the order of `Columns::of`.
+enum Quantity { X, Y, Z, R, VX, VY, VZ, WX, WY, WZ, kQuantities };
+constexpr std::array<std::string_view, kQuantities> kNames = {"x",  "y",  "z",  "r",  "vx",
+                                                              "vy", "vz", "wx", "wy", "wz"};
+/// Ends every header message, so that a user sees what a header may hold.
+constexpr std::string_view kKnownColumns =
+    "the columns are x, y, z and r (or radius), optionally vx, vy, vz and wx, wy, wz, in any "
+    "order, each once";
+
+/// Which column gives each quantity (-1: none), from the header's names.
+struct Columns {
+  std::array<int, kQuantities> of;
+  std::vector<std::string> names;  ///< the header's names, as written (for row messages)
+  bool has(Quantity q) const { return of[q] >= 0; }
+};
+
+/// What to tell a user whose column name is not one of ours: the likely intent where we can
+/// guess it, the nearest name where it is one slip away.
+std::string hintFor(std::string_view name) {
+  if (name == "diameter" || name == "d" || name == "dia" || name == "diam") {
+    return "; did you mean r, the radius (half the diameter)?";
+  }
+  if (name == "id" || name == "mass" || name == "step" || name == "time_s") {
+    return "; granular writes it in its particle files but does not read it (the rows' order "
+           "numbers the particles and the mass follows from the density): drop the column";
+  }
+  std::vector<std::string_view> candidates(kNames.begin(), kNames.end());
+  candidates.push_back("radius");
+  std::string_view best;
+  std::size_t bestDistance = name.size() + 1;
+  for (std::string_view candidate : candidates) {
+    const std::size_t d = editDistance(name, candidate);
+    if (d < bestDistance) bestDistance = d, best = candidate;
+  }
+  // One slip only: the names are one or two letters, so two slips reach almost any of them.
+  return bestDistance <= 1 ? "; did you mean '" + std::string(best) + "'?" : std::string();
+}
+
+Columns readHeader(std::string_view text, const std::string& where) {
+  const std::vector<std::string_view> fields = splitFields(text);
+  if (fields.size() == 1 && text.find(';') != std::string_view::npos) {
+    throw ConfigError(where + "the header '" + std::string(text) +
+                      "' has no commas: separate the columns with commas; " +
+                      std::string(kKnownColumns));
+  }
+  Columns columns;
+  columns.of.fill(-1);
+  for (std::size_t c = 0; c < fields.size(); ++c) {
+    const std::string_view name = fields[c];
+    const std::string number = "column " + std::to_string(c + 1);
+    if (name.empty()) {
+      throw ConfigError(where + number + " of the header has no name (a stray comma?); " +
+                        std::string(kKnownColumns));
+    }
+    int quantity = -1;
+    for (int q = 0; q < kQuantities; ++q) {
+      if (name == kNames[std::size_t(q)]) quantity = q;
+    }
+    if (name == "radius") quantity = R;
+    if (quantity < 0) {
+      throw ConfigError(where + number + " '" + std::string(name) + "' is not a particle column" +
+                        hintFor(name) + "; " + std::string(kKnownColumns));
+    }
+    if (const int earlier = columns.of[std::size_t(quantity)]; earlier >= 0) {
+      throw ConfigError(where + "columns " + std::to_string(earlier + 1) + " (" +
+                        columns.names[std::size_t(earlier)] + ") and " + std::to_string(c + 1) +
+                        " (" + std::string(name) + ") both give " +
+                        (quantity == R ? std::string("the radius") : std::string(name)) + "; " +
+                        std::string(kKnownColumns));
+    }
+    columns.of[std::size_t(quantity)] = int(c);
+    columns.names.emplace_back(name);
+  }
+  std::string missing;
+  for (Quantity q : {X, Y, Z, R}) {
+    if (columns.has(q)) continue;
+    missing += missing.empty() ? "" : ", ";
+    missing += kNames[q];
+  }
+  if (!missing.empty()) {
+    throw ConfigError(where + "the header has no column " + missing + "; " +
+                      std::string(kKnownColumns));
+  }
+  for (Quantity first : {VX, WX}) {
+    const int given =
+        columns.has(first) + columns.has(Quantity(first + 1)) + columns.has(Quantity(first + 2));
+    if (given == 0 || given == 3) continue;
+    std::string absent;
+    for (int q = first; q < first + 3; ++q) {
+      if (columns.has(Quantity(q))) continue;
+      absent += absent.empty() ? "" : ", ";
+      absent += kNames[std::size_t(q)];
+    }
+    throw ConfigError(
+        where + "the header has no column " + absent + ": " +
+        (first == VX ? "a velocity (vx, vy, vz)" : "an angular velocity (wx, wy, wz)") +
+        " needs all three columns or none");
+  }
+  return columns;
+}
+
+// 3. The rows -------------------------------------------------------------------------------------
+
+CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t row,
+                    const std::string& where) {
+  const std::vector<std::string_view> fields = splitFields(text);
+  if (fields.size() != columns.names.size()) {
+    std::string header;
+    for (const std::string& name : columns.names) header += (header.empty() ? "" : ",") + name;
+    throw ConfigError(where + "row " + std::to_string(row) + ": expected " +
+                      std::to_string(columns.names.size()) + " fields, one per column of the " +
+                      "header (" + header + "), got " + std::to_string(fields.size()));
+  }
+  std::array<double, kQuantities> values{};
+  for (int q = 0; q < kQuantities; ++q) {
+    const int c = columns.of[std::size_t(q)];
+    if (c < 0) continue;
+    const std::string_view field = fields[std::size_t(c)];
+    const std::string column = "row " + std::to_string(row) + ", column " + std::to_string(c + 1) +
+                               " (" + columns.names[std::size_t(c)] + ") = '" + std::string(field) +
+                               "': ";
+    const std::optional<double> value = parseNumber(field);
+    if (!value) throw ConfigError(where + column + "not a number");
+    if (!std::isfinite(*value)) throw ConfigError(where + column + "must be a finite number");
+    if (q == R && *value <= 0.0) throw ConfigError(where + column + "radius must be > 0");
+    values[std::size_t(q)] = *value;
+  }
+  CsvParticle p;
+  p.position = Vec3(values[X], values[Y], values[Z]);
+  p.radius = values[R];
+  p.velocity = Vec3(values[VX], values[VY], values[VZ]);
+  p.angularVelocity = Vec3(values[WX], values[WY], values[WZ]);
+  return p;
+}
+
 }  // namespace
 
-std::vector<CsvParticle> readParticleCsv(const std::filesystem::path& path) {
-  std::ifstream in(path);
+ParticleCsv readParticleCsv(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ConfigError(path.string() + ": cannot open particle file");
+  // The whole file at once: its bytes are hashed (the run's fingerprint) and parsed from the
+  // same copy, so the two always describe the same file.
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw ConfigError(path.string() + ": read error");
 
-  std::vector<CsvParticle> particles;
-  std::string line;
+  ParticleCsv file;
+  file.contentHash = fnv1a(bytes);
+  std::string_view rest = bytes;
+  // A UTF-8 byte-order mark (spreadsheets save one) is not part of the first column's name.
+  if (rest.starts_with("\xEF\xBB\xBF")) rest.remove_prefix(3);
+  std::optional<Columns> columns;
   std::size_t lineNumber = 0;
-  bool headerSeen = false;
-  while (std::getline(in, line)) {
+  while (!rest.empty()) {
+    const std::size_t newline = rest.find('\n');
+    const std::string_view line = rest.substr(0, newline);
+    rest.remove_prefix(newline == std::string_view::npos ? rest.size() : newline + 1);
     ++lineNumber;
     const std::string_view text = trim(line);
     if (text.empty() || text.front() == '#') continue;
     const std::string where = path.string() + ":" + std::to_string(lineNumber) + ": ";
-    if (!headerSeen) {
+    if (!columns) {
       // A numeric first line means the header was forgotten: reading it as a header would
       // silently drop a particle.
       if (isNumericLine(text)) {
-        throw ConfigError(where + "expected a header line (x,y,z,r[,vx,vy,vz]), got numbers");
+        throw ConfigError(where + "expected a header line naming the columns, got numbers; " +
+                          std::string(kKnownColumns));
       }
-      headerSeen = true;
+      columns = readHeader(text, where);
       continue;
     }
-    const std::size_t row = particles.size() + 1;
-    const std::vector<std::string_view> fields = splitFields(text);
-    if (fields.size() != 4 && fields.size() != 7) {
-      throw ConfigError(where + "row " + std::to_string(row) +
-                        ": expected 4 fields (x,y,z,r) or 7 " + "(x,y,z,r,vx,vy,vz), got " +
-                        std::to_string(fields.size()));
-    }
-    std::array<double, 7> values{};
-    for (std::size_t c = 0; c < fields.size(); ++c) {
-      const std::string column = "row " + std::to_string(row) + ", column " +
-                                 std::to_string(c + 1) + " (" + kColumns[c] + ") = '" +
-                                 std::string(fields[c]) + "': ";
-      const std::optional<double> value = parseNumber(fields[c]);
-      if (!value) throw ConfigError(where + column + "not a number");
-      if (!std::isfinite(*value)) throw ConfigError(where + column + "must be a finite number");
-      if (c == 3 && *value <= 0.0) throw ConfigError(where + column + "radius must be > 0");
-      values[c] = *value;
-    }
-    particles.push_back({Vec3(values[0], values[1], values[2]), values[3],
-                         Vec3(values[4], values[5], values[6]), lineNumber});
+    file.rows.push_back(readRow(text, *columns, file.rows.size() + 1, where));
+    file.rows.back().line = lineNumber;
   }
-  if (in.bad()) throw ConfigError(path.string() + ": read error");
-  if (particles.empty()) throw ConfigError(path.string() + ": no particle rows");
-  return particles;
+  if (file.rows.empty()) throw ConfigError(path.string() + ": no particle rows");
+  return file;
 }
 
 }  // namespace granular

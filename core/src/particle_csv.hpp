@@ -2,6 +2,7 @@
 /// Reading particles from a CSV file (private to the core; used by the scene loader, which checks
 /// the file early, and by the scene builder, which places the particles).
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -11,15 +12,27 @@ namespace granular {
 
 /// One row of a particle CSV file.
 struct CsvParticle {
-  Vec3 position = Vec3::Zero();  ///< centre [m]
-  double radius = 0.0;           ///< [m]
-  Vec3 velocity = Vec3::Zero();  ///< [m/s]; zero when the row has only x,y,z,r
-  std::size_t line = 0;          ///< line of the row in the file (from 1); 0 if not from a file
+  Vec3 position = Vec3::Zero();         ///< centre [m]
+  double radius = 0.0;                  ///< [m]
+  Vec3 velocity = Vec3::Zero();         ///< [m/s]; zero when the file has no vx,vy,vz
+  Vec3 angularVelocity = Vec3::Zero();  ///< [rad/s]; zero when the file has no wx,wy,wz
+  std::size_t line = 0;  ///< line of the row in the file (from 1); 0 if not from a file
 };
 
-/// Reads a header line, then rows x,y,z,r[,vx,vy,vz] (m, m/s). Blank lines and lines starting
-/// with '#' are skipped. Throws ConfigError naming the file, line, row and column of the first
-/// bad field (not a number, NaN/inf, radius <= 0, wrong field count) or when there is no row.
-std::vector<CsvParticle> readParticleCsv(const std::filesystem::path& path);
+/// A particle file as read: its rows and the hash of its bytes.
+struct ParticleCsv {
+  std::vector<CsvParticle> rows;
+  /// FNV-1a of every byte of the file as read (fingerprintFile of the same file gives the same).
+  std::uint64_t contentHash = 0;
+};
+
+/// Reads a header line naming the columns, then one row per particle. The header's names say
+/// which field is which, in any order, each once: x, y, z and r (or radius) are required, vx, vy,
+/// vz and wx, wy, wz are optional, each group all three or none (m, m/s, rad/s). Every row has
+/// one field per column. Blank lines and lines starting with '#' are skipped. Throws ConfigError
+/// naming the file and line: on the header (an unknown, duplicate or missing column, with the
+/// known names), or on the first bad row (its row and column: not a number, NaN/inf,
+/// radius <= 0, wrong field count), or when there is no row.
+ParticleCsv readParticleCsv(const std::filesystem::path& path);
 
 }  // namespace granular

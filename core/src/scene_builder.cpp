@@ -1,6 +1,6 @@
 /// Building a runnable simulation from a Scene: particles from the generators, walls from the box.
-/// Sections: 1. grid generator; 2. particle checks (inside the box, no overlap); 3. buildParticles,
-/// buildWalls, buildSimulation.
+/// Sections: 1. grid generator; 2. particle checks (inside the box, no spin without friction, no
+/// overlap); 3. buildParticles, buildWalls, buildSimulation.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -110,6 +110,18 @@ void checkInsideBox(const std::vector<CsvParticle>& particles, const BoxSpec& bo
   }
 }
 
+/// Without friction nothing turns a particle and the engine keeps no rotation: a spin given to
+/// a frictionless scene would be dropped without a word, so it is refused instead.
+void checkNoSpin(const std::vector<CsvParticle>& particles) {
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if ((particles[i].angularVelocity.array() != 0.0).any()) {
+      throw ConfigError("particle " + std::to_string(i) + " spins at " +
+                        formatPoint(particles[i].angularVelocity) +
+                        " rad/s in a frictionless scene (friction = 0), which has no rotation");
+    }
+  }
+}
+
 /// Cell search: cells of edge 2·R_max, so overlapping particles are in the same or adjacent cells.
 /// Sorting by cell and looking neighbours up by binary search is O(N log N) with no grid to size.
 void checkNoOverlap(const std::vector<CsvParticle>& particles,
@@ -178,8 +190,14 @@ BuiltParticles build(const Scene& scene) {
       checkGrid(*grid, index);
       forEachGridParticle(*grid, [&all](std::size_t, const CsvParticle& p) { all.push_back(p); });
     } else {
-      const auto& rows = readParticleCsv(std::get<CsvGenerator>(scene.generators[index]).path);
-      all.insert(all.end(), rows.begin(), rows.end());
+      const CsvGenerator& csv = std::get<CsvGenerator>(scene.generators[index]);
+      const ParticleCsv file = readParticleCsv(csv.path);
+      if (csv.contentHash && file.contentHash != *csv.contentHash) {
+        // The run's fingerprint names what loadScene read; building from other bytes would
+        // run particles the checkpoints do not describe.
+        throw ConfigError(csv.path.string() + ": changed since the scene was loaded");
+      }
+      all.insert(all.end(), file.rows.begin(), file.rows.end());
     }
   }
   if (all.empty()) throw ConfigError("the scene has no particles");
@@ -187,6 +205,7 @@ BuiltParticles build(const Scene& scene) {
   const std::string prefix = scene.sourceFile.empty() ? "" : scene.sourceFile.string() + ": ";
   try {
     checkInsideBox(all, scene.box);
+    if (!scene.simulation.material.hasFriction()) checkNoSpin(all);
   } catch (const ConfigError& e) {
     throw ConfigError(prefix + e.what());
   }
@@ -215,7 +234,10 @@ BuiltParticles build(const Scene& scene) {
     for (const CsvParticle& p : all) volume += 4.0 / 3.0 * std::numbers::pi * std::pow(p.radius, 3);
     out.density = *scene.totalMass / volume;
   }
-  for (const CsvParticle& p : all) out.particles.add(p.position, p.radius, out.density, p.velocity);
+  for (const CsvParticle& p : all) {
+    out.particles.add(p.position, p.radius, out.density, p.velocity);
+    out.particles.angularVelocity.back() = p.angularVelocity;
+  }
   return out;
 }
 

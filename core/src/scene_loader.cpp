@@ -297,26 +297,35 @@ void checkNoOverlap(const TomlTableReader& r, const std::filesystem::path& path,
 }
 
 CsvGenerator readCsv(const TomlTableReader& r, const std::filesystem::path& folder,
-                     const BoxSpec& box, MotionBound& bound) {
+                     const BoxSpec& box, bool frictional, MotionBound& bound) {
   r.expectOnly(scene_schema::list(scene_schema::kCsvParticles));
   const std::string name = r.string("file");
   if (name.empty()) r.fail("file", "must name a CSV file");
   CsvGenerator g;
   g.path = std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : folder / name;
   // Read it now, so a bad row is reported against the scene key that names the file.
-  std::vector<CsvParticle> rows;
+  ParticleCsv file;
   try {
-    rows = readParticleCsv(g.path);
+    file = readParticleCsv(g.path);
   } catch (const ConfigError& e) {
     r.fail("file", e.what());
   }
+  g.contentHash = file.contentHash;
+  const std::vector<CsvParticle>& rows = file.rows;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const CsvParticle& p = rows[i];
+    const std::string row =
+        g.path.string() + ":" + std::to_string(p.line) + ": row " + std::to_string(i + 1);
     const std::string crossing = boxCrossing(p.position, p.radius, box);
     if (!crossing.empty()) {
-      r.fail("file", g.path.string() + ":" + std::to_string(p.line) + ": row " +
-                         std::to_string(i + 1) + " at " + formatPoint(p.position) +
-                         " with radius " + formatNumber(p.radius) + " m " + crossing);
+      r.fail("file", row + " at " + formatPoint(p.position) + " with radius " +
+                         formatNumber(p.radius) + " m " + crossing);
+    }
+    if (!frictional && (p.angularVelocity.array() != 0.0).any()) {
+      r.fail("file", row + " spins at (wx, wy, wz) = " + formatPoint(p.angularVelocity) +
+                         " rad/s, but material.friction = 0: without friction nothing turns a "
+                         "particle and the run ignores rotation; set material.friction > 0, or "
+                         "zero the spin");
     }
     bound.highestTop = std::max(bound.highestTop, p.position.z() + p.radius);
     bound.fastest = std::max(bound.fastest, p.velocity.norm());
@@ -328,7 +337,7 @@ CsvGenerator readCsv(const TomlTableReader& r, const std::filesystem::path& fold
 
 std::vector<Generator> readParticles(const TomlTableReader& root, const std::string& file,
                                      const std::filesystem::path& folder, const BoxSpec& box,
-                                     MotionBound& bound) {
+                                     bool frictional, MotionBound& bound) {
   const toml::array* array = root.tableArray("particles");
   if (!array) root.failMissing("particles");
   std::vector<Generator> generators;
@@ -343,7 +352,7 @@ std::vector<Generator> readParticles(const TomlTableReader& root, const std::str
     if (type == "grid") {
       generators.emplace_back(readGrid(r, box, bound));
     } else {
-      generators.emplace_back(readCsv(r, folder, box, bound));
+      generators.emplace_back(readCsv(r, folder, box, frictional, bound));
     }
   }
   return generators;
@@ -547,7 +556,8 @@ Scene loadScene(const std::filesystem::path& file) {
   const bool impactSpeedGiven = readSimulation(root, name, scene.simulation);
   scene.box = readBox(root, name);
   MotionBound bound;
-  scene.generators = readParticles(root, name, file.parent_path(), scene.box, bound);
+  scene.generators = readParticles(root, name, file.parent_path(), scene.box,
+                                   scene.simulation.material.hasFriction(), bound);
   scene.totalMass = root.optionalNumber("total_mass", Range::above(0));
   scene.stages = readStages(root, name, scene.box, scene.simulation.timeStep);
   scene.output = readOutput(root, name);

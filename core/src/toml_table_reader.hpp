@@ -18,6 +18,7 @@
 #include <toml++/toml.h>
 
 #include "granular/vec3.hpp"
+#include "nearest_name.hpp"
 #include "number_format.hpp"
 
 namespace granular {
@@ -48,8 +49,6 @@ struct Range {
 std::string describeValue(const toml::node& node);
 /// "file:line:column: " or "file: " when the region has no position.
 std::string locationPrefix(const std::string& file, const toml::source_region& where);
-/// The candidate nearest to `word` by edit distance, or empty if none is reasonably close.
-std::string nearestName(std::string_view word, const std::vector<std::string_view>& candidates);
 
 class TomlTableReader {
  public:

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/checkpoint.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "granular/stress.hpp"
@@ -19,7 +20,7 @@ struct CompactionOptions {
   /// Settled-state checkpoint: restored when it exists and matches `fingerprint`, written after
   /// stage 1 otherwise. Empty: always settle, write nothing.
   std::filesystem::path checkpoint;
-  std::uint64_t fingerprint = 0;  ///< identifies the scene (fingerprintFile of the scene file)
+  SceneFingerprint fingerprint;  ///< identifies the scene (fingerprintScene)
   /// Eq. (1) evaluations averaged over each output interval of stage 2 (the wall reactions are
   /// averaged exactly, from their impulses).
   int subSamples = 10;
@@ -51,7 +52,8 @@ struct CompactionSample {
 struct CompactionResult {
   StageResult settle;
   bool settleRestored = false;  ///< stage 1 came from the checkpoint
-  /// Why an existing checkpoint was not restored (damaged, another scene, unreadable), or empty.
+  /// Why an existing checkpoint was not restored (stale, damaged or unreadable: it is settled
+  /// again and overwritten); empty when it was, or when there was none.
   std::string checkpointRefused;
   double settleWallSeconds = 0;             ///< wall-clock time of stage 1 (0 when restored) [s]
   std::vector<SettleSample> settleHistory;  ///< empty when restored

@@ -39,9 +39,13 @@ struct GridGenerator {
   std::uint64_t seed = 1;
 };
 
-/// Particles listed in a CSV file: a header line, then rows x,y,z,r[,vx,vy,vz] in m and m/s.
+/// Particles listed in a CSV file: a header line naming the columns (x, y, z, r or radius;
+/// optionally vx, vy, vz and wx, wy, wz; any order), then one row per particle, in m, m/s, rad/s.
 struct CsvGenerator {
   std::filesystem::path path;  ///< resolved against the scene file's folder
+  /// FNV-1a of the file's bytes as loadScene read them; the builder refuses the file if it has
+  /// changed since. Empty for a scene built in C++ (the builder reads whatever is there).
+  std::optional<std::uint64_t> contentHash;
 };
 
 using Generator = std::variant<GridGenerator, CsvGenerator>;

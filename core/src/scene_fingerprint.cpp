@@ -1,0 +1,148 @@
+/// fingerprintScene (scene_fingerprint.hpp). Every struct of the scene is taken apart with a
+/// structured binding that names all its members: a member added to one of them stops this file
+/// from compiling until it is either fingerprinted or said not to change the run.
+#include "granular/scene_fingerprint.hpp"
+
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+#include "fnv1a.hpp"
+
+namespace granular {
+
+namespace {
+
+/// The canonical bytes of a part: fixed-width numbers (doubles by their bits, so 0.1 written
+/// as 1e-1 is the same and -0.0 is not 0.0), strings with their length.
+class Canonical {
+ public:
+  Canonical& operator<<(double x) { return raw(x); }
+  Canonical& operator<<(bool x) { return raw(static_cast<unsigned char>(x)); }
+  Canonical& operator<<(std::uint64_t x) { return raw(x); }
+  Canonical& operator<<(int x) { return raw(static_cast<std::int64_t>(x)); }
+  Canonical& operator<<(const Vec3& v) { return *this << v.x() << v.y() << v.z(); }
+  Canonical& operator<<(const std::string& s) {
+    *this << std::uint64_t(s.size());
+    bytes_ += s;
+    return *this;
+  }
+  Canonical& operator<<(const std::optional<double>& x) {
+    *this << x.has_value();
+    return x ? *this << *x : *this;
+  }
+  template <class E>
+  requires std::is_enum_v<E> Canonical& operator<<(E e) {
+    return *this << static_cast<std::int64_t>(e);
+  }
+  std::uint64_t hash() const { return fnv1a(bytes_); }
+
+ private:
+  Canonical& operator<<(std::int64_t x) { return raw(x); }
+  template <class T>
+  Canonical& raw(const T& value) {
+    char buffer[sizeof(T)];
+    std::memcpy(buffer, &value, sizeof(T));
+    bytes_.append(buffer, sizeof(T));
+    return *this;
+  }
+  std::string bytes_;
+};
+
+std::uint64_t materialHash(const Material& m) {
+  const auto& [youngModulus, poissonRatio, shearModulus, density, friction, normalDamping,
+               tangentialDamping, normalLaw] = m;
+  Canonical c;
+  c << youngModulus << poissonRatio << shearModulus << density << friction << normalDamping
+    << tangentialDamping << normalLaw;
+  return c.hash();
+}
+
+std::uint64_t boxHash(const BoxSpec& box) {
+  const auto& [min, max, walls] = box;
+  Canonical c;
+  c << min << max;
+  for (bool wall : walls) c << wall;
+  return c.hash();
+}
+
+std::uint64_t gridHash(const GridGenerator& g) {
+  const auto& [origin, cellSize, cells, count, radiusMin, radiusMax, speedMax, seed] = g;
+  Canonical c;
+  c << std::string("grid") << origin << cellSize << cells[0] << cells[1] << cells[2]
+    << std::uint64_t(count) << radiusMin << radiusMax << speedMax << seed;
+  return c.hash();
+}
+
+/// The file's bytes, not its path: the same particles moved elsewhere are the same run.
+std::uint64_t csvHash(const CsvGenerator& g) {
+  const auto& [path, contentHash] = g;
+  Canonical c;
+  c << std::string("csv") << (contentHash ? *contentHash : fingerprintFile(path));
+  return c.hash();
+}
+
+std::uint64_t stageHash(const StageSpec& s) {
+  const auto& [name, end, wallMotions, placeTopWallOnSurface, resetClock] = s;
+  const auto& [maxTime, kineticEnergyBelow, sustainTime] = end;
+  Canonical c;
+  c << name << maxTime << kineticEnergyBelow << sustainTime << placeTopWallOnSurface << resetClock
+    << std::uint64_t(wallMotions.size());
+  for (const WallMotion& motion : wallMotions) {
+    const auto& [wall, velocity] = motion;
+    c << wall << velocity;
+  }
+  return c.hash();
+}
+
+std::uint64_t outputHash(const OutputSpec& o) {
+  const auto& [interval, snapshotTimes] = o;
+  Canonical c;
+  c << interval << std::uint64_t(snapshotTimes.size());
+  for (double t : snapshotTimes) c << t;
+  return c.hash();
+}
+
+}  // namespace
+
+SceneFingerprint fingerprintScene(const Scene& scene) {
+  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output] = scene;
+  // The scene file's name is not part of the run: only where messages point.
+  const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
+  const auto& [material, gravity, integrator, timeStep, skin, impactSpeed, threads] = simulation;
+  static_cast<void>(threads);  // results are the same bits for any thread count
+
+  SceneFingerprint f;
+  f.parts.push_back({"material", materialHash(material), "[material]" + in});
+  Canonical sim;
+  sim << gravity << integrator << timeStep << skin;
+  f.parts.push_back({"simulation", sim.hash(), "[simulation]" + in});
+  // Apart from [simulation]: when not given, it is computed from the particles, and a message
+  // about an edited particle file should not blame [simulation] for it.
+  Canonical impact;
+  impact << impactSpeed;
+  f.parts.push_back({"simulation.impact_speed", impact.hash(),
+                     "simulation.impact_speed (given" + in + ", or computed from the particles)"});
+  f.parts.push_back({"box", boxHash(box), "[box]" + in});
+  for (std::size_t i = 0; i < generators.size(); ++i) {
+    const std::string key = "particles[" + std::to_string(i) + "]";
+    if (const auto* grid = std::get_if<GridGenerator>(&generators[i])) {
+      f.parts.push_back({key, gridHash(*grid), key + " (grid)" + in});
+    } else {
+      const CsvGenerator& csv = std::get<CsvGenerator>(generators[i]);
+      f.parts.push_back(
+          {key, csvHash(csv), "the particle file " + csv.path.string() + " (" + key + ".file)"});
+    }
+  }
+  Canonical mass;
+  mass << totalMass;
+  f.parts.push_back({"total_mass", mass.hash(), "total_mass" + in});
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const std::string key = "stages[" + std::to_string(i) + "]";
+    f.parts.push_back({key, stageHash(stages[i]), key + " '" + stages[i].name + "'" + in});
+  }
+  f.parts.push_back({"output", outputHash(output), "[output]" + in});
+  return f;
+}
+
+}  // namespace granular
