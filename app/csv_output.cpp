@@ -38,7 +38,7 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
   header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J,elastic_normal_J,"
             "elastic_tangential_J,dissipated_normal_J,dissipated_tangential_J,"
             "dissipated_friction_J,tangential_stiffness_work_J,gravity_work_J,wall_work_J,"
-            "energy_total_J,contacts_particle,contacts_wall";
+            "energy_total_J,contacts_particle_overlapping,contacts_wall_overlapping";
   for (const std::string& wall : walls_) {
     for (const char* axis : {"x", "y", "z"}) {
       header << ",reaction_" << wall << '_' << axis << "_N";  // wall names need no quoting
@@ -81,18 +81,40 @@ void writeTextFile(const std::filesystem::path& path, const std::string& text) {
   writeFileAtomically(path, text);
 }
 
-void writeParticleState(const std::filesystem::path& path, const Particles& particles) {
-  AtomicFile file(path);
-  std::ostream& out = file.stream();
-  out << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass\n";
+namespace {
+
+/// The particle-state table into `out`; `suffix` ends every row (after the mass) and
+/// `extraColumns` the header.
+void particleTable(std::ostream& out, const Particles& particles, const std::string& extraColumns,
+                   const std::string& suffix) {
+  out << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass" << extraColumns << "\n";
   for (std::size_t i = 0; i < particles.size(); ++i) {
     out << i;
     for (const Vec3* v :
          {&particles.position[i], &particles.velocity[i], &particles.angularVelocity[i]}) {
       out << ',' << csvNumber(v->x()) << ',' << csvNumber(v->y()) << ',' << csvNumber(v->z());
     }
-    out << ',' << csvNumber(particles.radius[i]) << ',' << csvNumber(particles.mass[i]) << '\n';
+    out << ',' << csvNumber(particles.radius[i]) << ',' << csvNumber(particles.mass[i]) << suffix
+        << '\n';
   }
+}
+
+}  // namespace
+
+void writeParticleState(const std::filesystem::path& path, const Particles& particles) {
+  AtomicFile file(path);
+  particleTable(file.stream(), particles, "", "");
+  file.commit();
+}
+
+void writeParticleSnapshot(const std::filesystem::path& path, const Simulation& sim) {
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "," + std::string + ...
+  std::string when = ",";
+  when += std::to_string(sim.stepCount());
+  when += ',';
+  when += csvNumber(sim.time());
+  AtomicFile file(path);
+  particleTable(file.stream(), sim.particles(), ",step,time_s", when);
   file.commit();
 }
 

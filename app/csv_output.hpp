@@ -43,6 +43,9 @@ class TimeSeriesWriter {
 /// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into
 /// place, so a reader never sees half a file.
 void writeParticleState(const std::filesystem::path& path, const Particles& particles);
+/// The same columns, then step and time_s: the step the state was written at and the simulation
+/// clock, the same on every row (a snapshot's name gives the step only).
+void writeParticleSnapshot(const std::filesystem::path& path, const Simulation& sim);
 
 /// Writes `text` to `path` through a temporary file and a rename (writeFileAtomically).
 void writeTextFile(const std::filesystem::path& path, const std::string& text);

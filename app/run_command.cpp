@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_csv.hpp"
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
@@ -32,49 +33,74 @@ namespace {
 
 // 1. Output names ---------------------------------------------------------------------------------
 
-/// snapshot_<stage>_<time>.csv: the stage is part of the name because snapshot times are on
-/// each stage's own clock, so two stages can pass the same time.
+/// <kind>_<stage>_<step>.csv: named by the step the state was written at (a snapshot is taken
+/// at the first step at or after its time); the stage is in the name because snapshot times are
+/// on each stage's own clock.
 std::string safeName(const std::string& stage) {
   return fileSafeName(stage);
 }
 
-std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const std::string& stage,
-                                   double time) {
-  return outDir / ("snapshot_" + safeName(stage) + "_" + csvNumber(time) + ".csv");
+std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const char* kind,
+                                   const std::string& stage, std::uint64_t step) {
+  return outDir / (std::string(kind) + "_" + safeName(stage) + "_" + std::to_string(step) + ".csv");
 }
 
-/// paraview/<stage>_<time>_<kind>.vtp, relative to the run folder (the .pvd files refer to it so).
-std::filesystem::path paraviewPath(const std::string& stage, double time, const char* kind) {
+/// paraview/<stage>_<step>_<kind>.vtp, relative to the run folder (the .pvd files refer to it so).
+std::filesystem::path paraviewPath(const std::string& stage, std::uint64_t step, const char* kind) {
   return std::filesystem::path("paraview") /
-         (safeName(stage) + "_" + csvNumber(time) + "_" + kind + ".vtp");
+         (safeName(stage) + "_" + std::to_string(step) + "_" + kind + ".vtp");
 }
 
 constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
 
-/// Writes the ParaView files of a snapshot of stage `k` at stage time `time`, then rewrites
-/// particles.pvd, contacts.pvd and walls.pvd from every snapshot file present (so a resumed
-/// run lists the ones written before it stopped). A collection's time runs on across stages:
-/// a stage's snapshots are offset by the durations of the stages before it.
+/// The steps of the ParaView files of `stage` and `kind` in `outDir`/paraview within
+/// [first, last], in order.
+std::vector<std::uint64_t> paraviewSteps(const std::filesystem::path& outDir,
+                                         const std::string& stage, const char* kind,
+                                         std::uint64_t first, std::uint64_t last) {
+  const std::string prefix = safeName(stage) + "_", suffix = std::string("_") + kind + ".vtp";
+  std::vector<std::uint64_t> steps;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(outDir / "paraview", error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
+        !name.ends_with(suffix)) {
+      continue;
+    }
+    const std::string digits =
+        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 19) continue;
+    const std::uint64_t step = std::stoull(digits);
+    if (step >= first && step <= last) steps.push_back(step);
+  }
+  std::sort(steps.begin(), steps.end());
+  return steps;
+}
+
+/// Writes the ParaView files of a snapshot of stage `k` (the state of `sim`), then rewrites
+/// particles.pvd, contacts.pvd and walls.pvd from every snapshot file of this run's stages
+/// present (so a resumed run lists the ones written before it stopped). A collection's time is
+/// the time since the run began, step × Δt: it runs on across stages whatever their clocks.
 void writeParaviewSnapshot(const std::filesystem::path& outDir, const Scene& scene,
-                           const RunProgress& progress, std::size_t k, double time,
-                           const Simulation& sim) {
+                           const RunProgress& progress, std::size_t k, const Simulation& sim) {
   createOutputFolder(outDir / "paraview");
   const std::string& stage = scene.stages[k].name;
-  writeParticlesVtp(outDir / paraviewPath(stage, time, "particles"), sim);
-  writeContactsVtp(outDir / paraviewPath(stage, time, "contacts"), sim);
-  writeWallsVtp(outDir / paraviewPath(stage, time, "walls"), sim, scene.box.min, scene.box.max);
-  std::vector<double> times = scene.output.snapshotTimes;
-  std::sort(times.begin(), times.end());
-  times.erase(std::unique(times.begin(), times.end()), times.end());
+  writeParticlesVtp(outDir / paraviewPath(stage, sim.stepCount(), "particles"), sim);
+  writeContactsVtp(outDir / paraviewPath(stage, sim.stepCount(), "contacts"), sim);
+  writeWallsVtp(outDir / paraviewPath(stage, sim.stepCount(), "walls"), sim, scene.box.min,
+                scene.box.max);
   for (const char* kind : kParaviewKinds) {
     std::vector<PvdEntry> entries;
-    double offset = 0;
+    std::uint64_t stageStart = 0;  // a run starts at step 0; stage j spans its steps from here
     for (std::size_t j = 0; j <= k; ++j) {
-      for (double t : times) {
-        const std::filesystem::path file = paraviewPath(scene.stages[j].name, t, kind);
-        if (std::filesystem::exists(outDir / file)) entries.push_back({offset + t, file});
+      const std::uint64_t stageEnd =
+          j < k ? stageStart + progress.finished[j].result.steps : sim.stepCount();
+      for (std::uint64_t step :
+           paraviewSteps(outDir, scene.stages[j].name, kind, stageStart, stageEnd)) {
+        entries.push_back({double(step) * scene.simulation.timeStep,
+                           paraviewPath(scene.stages[j].name, step, kind)});
       }
-      if (j < progress.finished.size()) offset += progress.finished[j].result.duration;
+      stageStart = stageEnd;
     }
     writePvd(outDir / (std::string(kind) + ".pvd"), entries);
   }
@@ -217,9 +243,10 @@ int runScene(const RunOptions& options) {
       const StageSpec& stage = scene.stages[k];
       StageObserver observer;
       observer.onSample = [&](const Simulation& s) { series->write(stage.name, s); };
-      observer.onSnapshot = [&](const Simulation& s, double time) {
-        writeParticleState(snapshotPath(outDir, stage.name, time), s.particles());
-        writeParaviewSnapshot(outDir, scene, progress, k, time, s);
+      observer.onSnapshot = [&](const Simulation& s, double) {
+        writeParticleSnapshot(snapshotPath(outDir, "snapshot", stage.name, s.stepCount()), s);
+        writeContactCsv(snapshotPath(outDir, "contacts", stage.name, s.stepCount()), s);
+        writeParaviewSnapshot(outDir, scene, progress, k, s);
       };
       observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
         reporter.update(s, st);

@@ -24,6 +24,26 @@ double totalMass(const Particles& particles) {
   return sum;
 }
 
+namespace {
+
+/// Which contact sets the step limit, said of what the scene can form: the limit assumes the
+/// stiffer of a particle-particle and a particle-wall contact of the smallest radius, and a scene
+/// of one sphere has no pair, a scene without walls no wall contact.
+std::string contactKinds(const Scene& scene, const Simulation& sim) {
+  const bool pairs = sim.particles().size() >= 2;
+  bool walls = !sim.walls().empty();
+  for (const StageSpec& stage : scene.stages) walls = walls || stage.placeTopWallOnSurface;
+  const bool wallSets = sim.contactScale().againstWall;
+  const std::string kind = wallSets ? "particle-wall" : "particle-particle";
+  if (wallSets ? walls : pairs) return "stiffest " + kind;
+  const std::string formed = pairs   ? "particle-particle contacts only"
+                             : walls ? "particle-wall contacts only"
+                                     : "no contacts (one sphere, no walls)";
+  return formed + "; the step limit uses a " + kind + " contact, which this scene cannot form";
+}
+
+}  // namespace
+
 void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
                  const std::filesystem::path& outDir) {
   const SimulationConfig& config = sim.config();
@@ -34,11 +54,11 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
       << format("%.6g", totalMass(sim.particles())) << " kg (density "
       << format("%.6g", config.material.density) << " kg/m³"
       << (scene.totalMass ? ", scaled to the scene's total_mass" : "") << ")\n";
+  // The step in full (it reads back to the same double): a rounded one hides a typo.
   out << "integrator  " << (config.integrator == Integrator::Gear5 ? "gear5" : "verlet")
-      << ", dt = " << format("%.3g", dt) << " s\n";
-  out << "contact     stiffest " << (contact.againstWall ? "particle-wall" : "particle-particle")
-      << " (R = " << format("%.4g", contact.radius) << " m), duration "
-      << format("%.4g", contact.duration) << " s; dt = duration/"
+      << ", dt = " << csvNumber(dt) << " s\n";
+  out << "contact     " << contactKinds(scene, sim) << " (R = " << format("%.4g", contact.radius)
+      << " m), duration " << format("%.4g", contact.duration) << " s; dt = duration/"
       << format("%.1f", contact.duration / dt) << "\n";
   out << "friction    "
       << (sim.frictional() ? "on (mu = " + format("%g", config.material.friction) +

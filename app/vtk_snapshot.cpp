@@ -94,9 +94,7 @@ void writeContactsVtp(const std::filesystem::path& file, const Simulation& sim) 
     if (c.other >= 0 && std::size_t(c.other) < c.particle) return;  // a pair once
     const Vec3& xi = p.position[c.particle];
     const Vec3 end = c.other >= 0 ? p.position[std::size_t(c.other)] : c.point;
-    // n from the particle towards the other body (for a wall: against the wall's normal).
-    Vec3 n = c.other >= 0 ? Vec3(end - xi) : Vec3(-sim.walls()[std::size_t(-c.other - 1)].normal);
-    n = n.norm() > 0 ? n.normalized() : Vec3::UnitZ();
+    const Vec3& n = c.normal;  // from the particle towards the other body, as the law's
     const Vec3 fn = c.force.dot(n) * n;
     const vtkIdType ids[2] = {points->InsertNextPoint(xi.x(), xi.y(), xi.z()),
                               points->InsertNextPoint(end.x(), end.y(), end.z())};

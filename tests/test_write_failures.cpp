@@ -8,6 +8,7 @@
 #include <sys/mount.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <regex>
@@ -94,8 +95,11 @@ void expectCollectionsPointAtFiles(const fs::path& dir) {
 
 TEST(WriteFailures, AnOutputPathOccupiedByAFolderStopsTheRunNamingIt) {
   const fs::path out = freshFolder("occupied");
-  // The first ParaView file of the run: the settle stage's snapshot at 0.1 s.
-  const fs::path occupied = out / "paraview" / "settle_0.1_particles.vtp";
+  // The first ParaView file of the run: the settle stage's snapshot at 0.1 s, taken at the first
+  // step at or after it (demo.toml: time_step = 1.7e-4 s), and named by that step.
+  const auto step = std::uint64_t(std::ceil(0.1 / 1.7e-4));
+  const fs::path occupied =
+      out / "paraview" / ("settle_" + std::to_string(step) + "_particles.vtp");
   fs::create_directories(occupied);
   const Outcome o =
       run({"run", kDemo.string(), "--out", out.string(), "-q"}, out.string() + ".err");

@@ -665,7 +665,7 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
 // ---- 3. The measuring pass ----------------------------------------------------------------
 
 /// Every contact at the current state, serially and without advancing any spring: forces go to
-/// `force`, and `visit(i, other, point, F)` sees each contact once.
+/// `force`, and `visit(i, other, point, F, n, h)` sees each contact once.
 template <bool kFriction, NormalLaw kLaw, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
   const SimulationState& s = state;
@@ -692,7 +692,9 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       const Vec3 f = forceOf(chunk, e);
       force[i] += f;
       force[j] -= f;
-      visit(i, static_cast<long>(j), Vec3(p.position[i] + chunk.armI[e] * normalOf(chunk, e)), f);
+      const Vec3 n = normalOf(chunk, e);
+      visit(i, static_cast<long>(j), Vec3(p.position[i] + chunk.armI[e] * n), f, n,
+            chunk.overlap[e]);
     }
   }
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
@@ -706,8 +708,9 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
         const Vec3 f = forceOf(chunk, e);
         force[i] += f;
-        visit(i, -static_cast<long>(w) - 1,
-              Vec3(p.position[i] + chunk.armI[e] * normalOf(chunk, e)), f);
+        const Vec3 n = normalOf(chunk, e);
+        visit(i, -static_cast<long>(w) - 1, Vec3(p.position[i] + chunk.armI[e] * n), f, n,
+              chunk.overlap[e]);
       }
     }
   }
@@ -751,10 +754,11 @@ int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop*
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,
                    std::vector<Vec3>* netForce) {
   std::vector<Vec3> force;
-  auto each = [&](std::uint32_t i, long other, const Vec3& point, const Vec3& f) {
+  auto each = [&](std::uint32_t i, long other, const Vec3& point, const Vec3& f, const Vec3& n,
+                  double h) {
     if (!visit) return;
-    visit(ContactView{i, other, point, f});
-    if (other >= 0) visit(ContactView{static_cast<std::size_t>(other), i, point, -f});
+    visit(ContactView{i, other, point, f, n, h});
+    if (other >= 0) visit(ContactView{static_cast<std::size_t>(other), i, point, -f, -n, h});
   };
   withLaw(
       s, [&]<bool kFriction, NormalLaw kLaw>() { measuringPass<kFriction, kLaw>(s, force, each); });

@@ -84,19 +84,24 @@ struct MemoryUse {
 
 /// Counters of the last step and of the run.
 struct StepCounters {
-  std::size_t particleContacts = 0;  ///< particle pairs with overlap > 0 at the last step
-  std::size_t wallContacts = 0;      ///< particle-wall pairs with overlap > 0 at the last step
-  std::size_t neighbourPairs = 0;    ///< candidate pairs in the neighbour list
-  std::uint64_t rebuilds = 0;        ///< neighbour-list rebuilds since the start
+  /// Particle pairs with overlap > 0 in the last step's force evaluation (at the predicted
+  /// state), those the no-pull clamp holds at zero force included [-].
+  std::size_t particleContacts = 0;
+  std::size_t wallContacts = 0;             ///< particle-wall contacts counted alike [-]
+  std::size_t neighbourPairs = 0;           ///< candidate pairs in the neighbour list
+  std::uint64_t rebuilds = 0;               ///< neighbour-list rebuilds since the start
   std::uint64_t tangentialEvaluations = 0;  ///< tangential force evaluations since the start
 };
 
-/// One contact as seen from particle i, for stress averaging (Eq. 1) and figures.
+/// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
+/// per-contact files.
 struct ContactView {
   std::size_t particle = 0;  ///< i
   long other = -1;           ///< j >= 0 for a particle, or -(wall index) - 1 for a wall
   Vec3 point;                ///< contact point C_ij [m]
   Vec3 force;                ///< F_ij, force on i [N]
+  Vec3 normal;               ///< unit normal from i towards j, or out of i into the wall [-]
+  double overlap = 0;        ///< h > 0 [m]
 };
 
 struct SimulationState;  // private: core/src/simulation_state.hpp
