@@ -2,7 +2,9 @@
 /// Number formatting for messages (private to the core).
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace granular {
 
@@ -14,6 +16,23 @@ inline std::string formatNumber(double x) {
   char buffer[64];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, x);
   return std::string(buffer, result.ptr);
+}
+
+/// User text for a message with its control bytes spelt out ("\\x00"): a NUL byte from a file
+/// would otherwise end the message where it is printed, and a carriage return overwrite it.
+inline std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f) {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+      out += escaped;
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace granular

@@ -13,7 +13,9 @@
 
 #include "fnv1a.hpp"
 #include "granular/error.hpp"
+#include "granular/output_file.hpp"
 #include "nearest_name.hpp"
+#include "number_format.hpp"
 
 namespace granular {
 
@@ -101,7 +103,7 @@ std::string hintFor(std::string_view name) {
 Columns readHeader(std::string_view text, const std::string& where) {
   const std::vector<std::string_view> fields = splitFields(text);
   if (fields.size() == 1 && text.find(';') != std::string_view::npos) {
-    throw ConfigError(where + "the header '" + std::string(text) +
+    throw ConfigError(where + "the header '" + printable(text) +
                       "' has no commas: separate the columns with commas; " +
                       std::string(kKnownColumns));
   }
@@ -120,7 +122,7 @@ Columns readHeader(std::string_view text, const std::string& where) {
     }
     if (name == "radius") quantity = R;
     if (quantity < 0) {
-      throw ConfigError(where + number + " '" + std::string(name) + "' is not a particle column" +
+      throw ConfigError(where + number + " '" + printable(name) + "' is not a particle column" +
                         hintFor(name) + "; " + std::string(kKnownColumns));
     }
     if (const int earlier = columns.of[std::size_t(quantity)]; earlier >= 0) {
@@ -179,7 +181,7 @@ CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t r
     if (c < 0) continue;
     const std::string_view field = fields[std::size_t(c)];
     const std::string column = "row " + std::to_string(row) + ", column " + std::to_string(c + 1) +
-                               " (" + columns.names[std::size_t(c)] + ") = '" + std::string(field) +
+                               " (" + columns.names[std::size_t(c)] + ") = '" + printable(field) +
                                "': ";
     const std::optional<double> value = parseNumber(field);
     if (!value) throw ConfigError(where + column + "not a number");
@@ -198,12 +200,19 @@ CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t r
 }  // namespace
 
 ParticleCsv readParticleCsv(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path.string() + ": cannot open particle file");
   // The whole file at once: its bytes are hashed (the run's fingerprint) and parsed from the
-  // same copy, so the two always describe the same file.
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (in.bad()) throw ConfigError(path.string() + ": read error");
+  // same copy, so the two always describe the same file. A folder or a device (/dev/zero) is
+  // refused before reading, and a file larger than the memory left is never read: the scene
+  // that names it is at fault, so the error is the scene's (exit status 2).
+  std::string bytes;
+  try {
+    InputFile in(path, "particle file");
+    const std::uint64_t available = availableMemoryBytes();
+    const std::vector<char> raw = in.readAll(available > 0 ? available / 2 : in.size());
+    bytes.assign(raw.begin(), raw.end());
+  } catch (const IoError& e) {
+    throw ConfigError(e.what());
+  }
 
   ParticleCsv file;
   file.contentHash = fnv1a(bytes);
