@@ -13,7 +13,7 @@
 /// material.density                    | kg/m³ | (0, 1e12]                    | 500
 /// material.friction                   | -     | [0, 10]                      | 0
 /// material.normal_damping             | 1/s   | >= 0                         | 60
-/// material.tangential_damping         | 1/s   | >= 0                         | 10
+/// material.tangential_damping         | 1/s   | >= 0; μ > 0: <= z/(21 Δt)    | 10
 /// material.normal_law                 | -     | "hooke" | "hertz"            | "hooke"
 /// simulation.gravity                  | m/s²  | 3 finite numbers             | [0, 0, -9.81]
 /// simulation.integrator               | -     | "gear5" | "verlet"           | "gear5"
@@ -50,6 +50,8 @@
 /// Particles are checked as the builder will place them: each must lie inside the box, the rows
 /// of a CSV file must not overlap, and the time step must be below the engine's limit
 /// (maxStableStep: a fraction of the stiffest contact's duration that depends on the integrator).
+/// With friction, γt must be at most maxTangentialDamping: z/(21 Δt), z = 0.163 (gear5) or 1
+/// (verlet), the tangential dashpots' explicit stability.
 /// The loader does these checks so that the message names the file, the key and the CSV line; the
 /// builder and the engine check again.
 ///
@@ -469,6 +471,12 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
   } catch (const ConfigError& e) {
     const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
     simulation.fail("time_step", e.what());
+  }
+  try {
+    requireStableTangentialDamping(material, scene.simulation.timeStep,
+                                   scene.simulation.integrator);
+  } catch (const ConfigError& e) {
+    tableOrRoot(root, "material", file).fail("tangential_damping", e.what());
   }
 }
 
