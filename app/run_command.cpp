@@ -17,6 +17,7 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
+#include "granular/run_checks.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
@@ -175,6 +176,12 @@ int runScene(const RunOptions& options) {
     series.emplace(seriesPath, reactionWallNames(scene));
   }
   ProgressReporter reporter(!options.quiet);
+  // The run checks itself at each sample (energy balance, particles outside the box): a
+  // warning on stderr and in summary.txt, or exit 3 under on_failed_check = "stop".
+  RunChecks checks(scene.output.checks, scene.box,
+                   progress.energyReference.value_or(sim.energy().total()));
+  progress.energyReference = checks.referenceTotal();
+  std::vector<std::string> warnings;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
   // stage's end. The last one written is the last good state if the run breaks.
@@ -191,7 +198,14 @@ int runScene(const RunOptions& options) {
     for (std::size_t k = progress.stage; k < scene.stages.size(); ++k) {
       const StageSpec& stage = scene.stages[k];
       StageObserver observer;
-      observer.onSample = [&](const Simulation& s) { series->write(stage.name, s); };
+      observer.onSample = [&](const Simulation& s) {
+        series->write(stage.name, s);
+        for (const std::string& warning : checks.atSample(s, stage.name)) {
+          reporter.finish();
+          std::cerr << "warning: " << warning << "\n";
+          warnings.push_back(warning);
+        }
+      };
       observer.onSnapshot = [&](const Simulation& s, double time) {
         writeParticleState(snapshotPath(outDir, stage.name, time), s.particles());
         writeParaviewSnapshot(outDir, scene, progress, k, time, s);
@@ -263,6 +277,7 @@ int runScene(const RunOptions& options) {
             << format("%.6g", r.result.duration) << " s simulated, " << r.result.steps << " steps, "
             << format("%.2f", r.wallSeconds) << " s wall-clock\n";
   }
+  for (const std::string& warning : warnings) summary << "warning: " << warning << "\n";
   summary << "final kinetic energy: " << format("%.6e", sim.kineticEnergy()) << " J\n"
           << "state hash: " << hexHash(sim.stateHash()) << "\n"
           << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"

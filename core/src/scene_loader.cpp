@@ -41,6 +41,8 @@
 /// stages[i].wall_velocity.<wall>      | m/s   | 3 finite numbers             | at rest
 /// output.interval                     | s     | > 0                          | 0.01
 /// output.snapshots                    | s     | numbers >= 0 (stage clock)   | []
+/// output.energy_drift_limit           | -     | > 0 (fraction of work done)  | 0.05
+/// output.on_failed_check              | -     | "warn" | "stop"              | "warn"
 // clang-format on
 ///
 /// The default impact_speed (used by the Hertz time-step check only) is the largest initial
@@ -426,6 +428,10 @@ OutputSpec readOutput(const TomlTableReader& root, const std::string& file) {
   output.interval = r.number("interval", output.interval, Range::above(0));
   output.snapshotTimes = r.numbers("snapshots", Range::atLeast(0));
   std::sort(output.snapshotTimes.begin(), output.snapshotTimes.end());
+  output.checks.energyDriftLimit =
+      r.number("energy_drift_limit", output.checks.energyDriftLimit, Range::above(0));
+  const std::string action = r.choice("on_failed_check", "warn", {"warn", "stop"});
+  output.checks.onFailedCheck = action == "stop" ? CheckAction::Stop : CheckAction::Warn;
   return output;
 }
 

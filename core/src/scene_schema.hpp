@@ -27,7 +27,8 @@ inline constexpr std::string_view kStage[] = {"name",
                                               "place_top_wall_on_surface",
                                               "reset_clock",
                                               "wall_velocity"};
-inline constexpr std::string_view kOutput[] = {"interval", "snapshots"};
+inline constexpr std::string_view kOutput[] = {"interval", "snapshots", "energy_drift_limit",
+                                               "on_failed_check"};
 
 struct Table {
   std::string_view name;  ///< as docs/scenes.md heads its section: "" top level, "particles.grid"
