@@ -45,9 +45,11 @@
 /// output.on_failed_check              | -     | "warn" | "stop"              | "warn"
 // clang-format on
 ///
-/// The default impact_speed (used by the Hertz time-step check only) is the largest initial
-/// particle speed plus the free-fall speed sqrt(2|g|h), h being the height of the highest
-/// particle top above the box floor; 1 m/s if that comes out as 0 (no gravity, no motion).
+/// The default impact_speed (used by the Hertz time-step check only) is the largest approach
+/// speed: twice the largest particle speed, which is the largest initial speed plus the
+/// free-fall speed sqrt(2|g|h), h being the height of the highest particle top above the box
+/// floor, plus twice the fastest wall of any stage; 1 m/s if that comes out as 0 (no gravity,
+/// no motion).
 ///
 /// Particles are checked as the builder will place them: each must lie inside the box, the rows
 /// of a CSV file must not overlap, and the time step must be below the engine's limit
@@ -435,11 +437,21 @@ OutputSpec readOutput(const TomlTableReader& root, const std::string& file) {
   return output;
 }
 
-/// Largest initial speed plus the free-fall speed from the highest particle top to the floor.
-double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity) {
+/// The largest approach speed a contact can have: two particles head-on, each at the largest
+/// speed a particle can reach, which is its largest initial speed, plus the free-fall speed from
+/// the highest particle top to the floor, plus twice the fastest wall's speed (a particle struck
+/// by a wall leaves it at up to twice the wall's speed). A particle meets a wall at most at that
+/// speed plus the wall's, which is less than twice it.
+double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity,
+                          const std::vector<StageSpec>& stages) {
   const double height = std::max(0.0, bound.highestTop - box.min.z());
-  const double speed = bound.fastest + std::sqrt(2.0 * gravity.norm() * height);
-  return speed > 0.0 ? speed : 1.0;
+  double wall = 0.0;
+  for (const StageSpec& stage : stages) {
+    for (const WallMotion& motion : stage.wallMotions)
+      wall = std::max(wall, motion.velocity.norm());
+  }
+  const double particle = bound.fastest + std::sqrt(2.0 * gravity.norm() * height) + 2.0 * wall;
+  return particle > 0.0 ? 2.0 * particle : 1.0;
 }
 
 // 7. Time step ------------------------------------------------------------------------------------
@@ -519,7 +531,8 @@ Scene loadScene(const std::filesystem::path& file) {
   scene.stages = readStages(root, name, scene.box, scene.simulation.timeStep);
   scene.output = readOutput(root, name);
   if (!impactSpeedGiven) {
-    scene.simulation.impactSpeed = defaultImpactSpeed(bound, scene.box, scene.simulation.gravity);
+    scene.simulation.impactSpeed =
+        defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages);
   }
   checkTimeStep(root, name, scene, bound);
   return scene;
