@@ -274,6 +274,8 @@ void writeCheckpoint(const Simulation& sim, const std::filesystem::path& file,
   fields(w, const_cast<SimulationState&>(state));  // read only
   std::string data = appData;
   w(data);
+  bool noPull = state.config.material.noPull;  // version 4
+  w(noPull);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -309,10 +311,9 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   pos += sizeof fingerprint;
   std::memcpy(&payloadBytes, bytes.data() + pos, sizeof payloadBytes);
   pos += sizeof payloadBytes;
-  if (version != kCheckpointVersion && version != 2) {
+  if (version < 2 || version > kCheckpointVersion) {
     throw CheckpointError(name + ": checkpoint format version " + std::to_string(version) +
-                          ", this build reads versions 2 and " +
-                          std::to_string(kCheckpointVersion));
+                          ", this build reads versions 2 to " + std::to_string(kCheckpointVersion));
   }
   // Compared without adding to payloadBytes, which a corrupted header can make overflow.
   if (bytes.size() - frame - sizeof checksum != payloadBytes) {
@@ -333,6 +334,7 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
   fields(r, *state);
   std::string appData;
   if (version >= 3) r(appData);
+  if (version >= 4) r(state->config.material.noPull);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
   state->neighbours.plan.valid = false;  // derived data: built by the next force pass

@@ -15,6 +15,7 @@
 /// material.normal_damping             | 1/s   | >= 0                         | 60
 /// material.tangential_damping         | 1/s   | >= 0; μ > 0: <= z/(21 Δt)    | 10
 /// material.normal_law                 | -     | "hooke" | "hertz"            | "hooke"
+/// material.no_pull                    | -     | boolean                      | true
 /// simulation.gravity                  | m/s²  | 3 finite numbers             | [0, 0, -9.81]
 /// simulation.integrator               | -     | "gear5" | "verlet"           | "gear5"
 /// simulation.time_step                | s     | > 0                          | required
@@ -157,6 +158,7 @@ Material readMaterial(const TomlTableReader& root, const std::string& file) {
   m.tangentialDamping = r.number("tangential_damping", m.tangentialDamping, Range::atLeast(0));
   const std::string law = r.choice("normal_law", "hooke", {"hooke", "hertz"});
   m.normalLaw = law == "hertz" ? NormalLaw::Hertz : NormalLaw::Hooke;
+  m.noPull = r.boolean("no_pull", m.noPull);
   return m;
 }
 

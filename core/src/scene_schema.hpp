@@ -11,8 +11,8 @@ namespace granular::scene_schema {
 inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
                                                  "total_mass", "stages",     "output"};
 inline constexpr std::string_view kMaterial[] = {
-    "youngs_modulus", "poisson_ratio",  "shear_modulus",      "density",
-    "friction",       "normal_damping", "tangential_damping", "normal_law"};
+    "youngs_modulus", "poisson_ratio",      "shear_modulus", "density", "friction",
+    "normal_damping", "tangential_damping", "normal_law",    "no_pull"};
 inline constexpr std::string_view kSimulation[] = {"gravity", "integrator", "time_step", "skin",
                                                    "impact_speed"};
 inline constexpr std::string_view kBox[] = {"min", "max", "walls"};

@@ -444,7 +444,8 @@ void Simulation::setMaterial(const Material& material) {
   if (material.youngModulus == now.youngModulus && material.poissonRatio == now.poissonRatio &&
       material.shearModulus == now.shearModulus && material.density == now.density &&
       material.friction == now.friction && material.normalDamping == now.normalDamping &&
-      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw) {
+      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw &&
+      material.noPull == now.noPull) {
     return;  // nothing changes, not even the bits
   }
   validateMaterial(material);

@@ -27,8 +27,9 @@ class CheckpointError : public std::runtime_error {
 };
 
 /// 2: no inverse masses or Gear rotational positions (not needed to continue bit for bit).
-/// 3: the caller's data after the state (a run's stage progress); version 2 files still read.
-inline constexpr std::uint32_t kCheckpointVersion = 3;
+/// 3: the caller's data after the state (a run's stage progress).
+/// 4: after that, Material::noPull (one flag byte). Versions 2 and 3 still read (no pull).
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 /// Writes `sim` atomically. `sceneFingerprint` identifies what the state belongs to (for
 /// instance fingerprintFile() of the scene file); readCheckpoint can insist on it. `appData`

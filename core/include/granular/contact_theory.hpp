@@ -21,6 +21,13 @@ struct ImpactPrediction {
 ImpactPrediction hookeDampedImpact(double stiffness, double normalDamping, double reducedMass,
                                    double approachSpeed);
 
+/// The same contact without the no-pull clamp (Material::noPull false): the damped oscillation
+/// runs until the overlap closes, at t = π/ωd, the force k·h + c·ḣ pulling after it has turned
+/// negative. Force and overlap duration π/ωd, restitution e^(−βπ/ωd), the same peak overlap.
+/// Requires an under-damped contact; throws ConfigError otherwise.
+ImpactPrediction hookeDampedImpactWithPull(double stiffness, double normalDamping,
+                                           double reducedMass, double approachSpeed);
+
 /// Hertz F = K·h^(3/2) without damping (K = (4/3)E*·sqrt(R*) = (2/3)E/(1-ν²)·sqrt(R_ij) here):
 /// duration 3.2181·(m/K)^(2/5)·v^(-1/5) (= 2.87·(m*²/(R* E*² v))^(1/5)), peak overlap
 /// (5 m v²/(4 K))^(2/5), restitution 1.
