@@ -137,7 +137,8 @@ TEST(EnergyRunChecks, TheReferenceTravelsWithTheCheckpointsProgress) {
 
 namespace {
 
-/// 8 spheres in a 0.5 m box; `extra` goes into the scene (a speed, a stage, output keys).
+/// 8 spheres in a 0.5 m box, at up to `speed` m/s, falling for 0.3 s, then pressed for 0.05 s by
+/// a top wall placed on them and moving at `topVelocity`; `output` is added to [output].
 fs::path writeScene(const fs::path& dir, double speed, const std::string& topVelocity,
                     const std::string& output) {
   const fs::path file = dir / "scene.toml";
