@@ -18,6 +18,7 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
+#include "granular/run_checks.hpp"
 #include "granular/scene.hpp"
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
@@ -224,6 +225,12 @@ int runScene(const RunOptions& options) {
     series.emplace(seriesPath, reactionWallNames(scene));
   }
   ProgressReporter reporter(!options.quiet);
+  // The run checks itself at each sample (energy balance, particles outside the box): a
+  // warning on stderr and in summary.txt, or exit 3 under on_failed_check = "stop".
+  RunChecks checks(scene.output.checks, scene.box,
+                   progress.energyReference.value_or(sim.energy().total()));
+  progress.energyReference = checks.referenceTotal();
+  std::vector<std::string> warnings;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
   // stage's end. The last one written is the last good state if the run breaks.
@@ -242,7 +249,14 @@ int runScene(const RunOptions& options) {
     for (std::size_t k = progress.stage; k < scene.stages.size(); ++k) {
       const StageSpec& stage = scene.stages[k];
       StageObserver observer;
-      observer.onSample = [&](const Simulation& s) { series->write(stage.name, s); };
+      observer.onSample = [&](const Simulation& s) {
+        series->write(stage.name, s);
+        for (const std::string& warning : checks.atSample(s, stage.name)) {
+          reporter.finish();
+          std::cerr << "warning: " << warning << "\n";
+          warnings.push_back(warning);
+        }
+      };
       observer.onSnapshot = [&](const Simulation& s, double) {
         writeParticleSnapshot(snapshotPath(outDir, "snapshot", stage.name, s.stepCount()), s);
         writeContactCsv(snapshotPath(outDir, "contacts", stage.name, s.stepCount()), s);
@@ -323,6 +337,7 @@ int runScene(const RunOptions& options) {
             << format("%.6g", r.result.duration) << " s simulated, " << r.result.steps << " steps, "
             << format("%.2f", r.wallSeconds) << " s wall-clock\n";
   }
+  for (const std::string& warning : warnings) summary << "warning: " << warning << "\n";
   summary << "final kinetic energy: " << format("%.6e", sim.kineticEnergy()) << " J\n"
           << "state hash: " << hexHash(sim.stateHash()) << "\n"
           << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"

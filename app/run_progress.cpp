@@ -60,6 +60,7 @@ std::string encodeRunProgress(const RunProgress& p) {
       << "steps " << p.inStage.steps << "\n"
       << "below_since " << (p.inStage.belowSince ? hex(*p.inStage.belowSince) : "none") << "\n"
       << "series_bytes " << p.seriesBytes << "\n";
+  if (p.energyReference) out << "energy_reference " << hex(*p.energyReference) << "\n";
   for (const FinishedStage& f : p.finished) {
     out << "finished " << (f.result.reason == StageEndReason::KineticEnergy ? "kinetic" : "time")
         << " " << hex(f.result.duration) << " " << f.result.steps << " " << hex(f.wallSeconds)
@@ -89,7 +90,12 @@ RunProgress decodeRunProgress(const std::string& text, const std::string& file) 
   p.seriesBytes = next("series_bytes").count();
   while (std::getline(in, line)) {
     Fields f(line, file);
-    if (f.word() != "finished") f.fail();
+    const std::string key = f.word();
+    if (key == "energy_reference" && !p.energyReference && p.finished.empty()) {
+      p.energyReference = f.number();
+      continue;
+    }
+    if (key != "finished") f.fail();
     FinishedStage s;
     const std::string reason = f.word();
     if (reason != "kinetic" && reason != "time") f.fail();

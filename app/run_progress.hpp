@@ -4,6 +4,7 @@
 /// stages ended. Stored as text in the checkpoint's caller data, numbers as hexadecimal floats
 /// so that a resumed run continues bit for bit.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct RunProgress {
   StageProgress inStage;                ///< how far that stage has run
   std::uint64_t seriesBytes = 0;        ///< length of timeseries.csv at the checkpoint [B]
   std::vector<FinishedStage> finished;  ///< the stages before `stage`
+  /// The energy balance's total at the start of the run (RunChecks), so that a resumed run
+  /// measures the drift from the same start; absent in checkpoints written before it was kept
+  /// [J].
+  std::optional<double> energyReference;
 };
 
 std::string encodeRunProgress(const RunProgress& progress);

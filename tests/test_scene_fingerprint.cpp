@@ -181,6 +181,8 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
     end += 8 + length + 8;
   }
   bytes.erase(bytes.begin() + std::ptrdiff_t(header), bytes.begin() + std::ptrdiff_t(end));
+  // And the no-pull flag, the payload's last byte (before the 8-byte checksum), also new in 4.
+  bytes.erase(bytes.end() - 9);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);
   const std::uint64_t payload = bytes.size() - header - 8;

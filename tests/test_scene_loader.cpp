@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 
@@ -234,12 +235,68 @@ TEST_F(SceneLoader, DefaultsAreTheStructDefaults) {
   EXPECT_TRUE(s.output.snapshotTimes.empty());
 }
 
-TEST_F(SceneLoader, DefaultImpactSpeedIsFreeFallFromTheHighestParticle) {
-  // Two layers of 0.1 m cells from z = 0: the highest top is 0.15 + 0.035 above the floor.
+TEST_F(SceneLoader, DefaultImpactSpeedIsTwoParticlesHeadOnAtTheirLargestSpeed) {
+  // Two layers of 0.1 m cells from z = 0: the highest top is 0.15 + 0.035 above the floor. A
+  // particle's largest speed is its initial 0.2 m/s plus the free fall from there, plus twice
+  // the fastest wall (0.5 m/s: a wall strikes a particle away at up to twice its speed); two of
+  // them meet head-on at twice that.
   const std::string text =
       replaced(kMinimal, "radius_max = 0.035", "radius_max = 0.035\nspeed_max = 0.2");
-  const Scene s = loadScene(write("scene.toml", text));
-  EXPECT_NEAR(s.simulation.impactSpeed, 0.2 + std::sqrt(2 * 9.81 * 0.185), 1e-12);
+  const double particle = 0.2 + std::sqrt(2 * 9.81 * 0.185);
+  EXPECT_NEAR(loadScene(write("scene.toml", text)).simulation.impactSpeed, 2 * particle, 1e-12);
+  const std::string moving = replaced(text, "max_time = 1.0",
+                                      "max_time = 1.0\n[stages.wall_velocity]\nx- = [0.3, 0.4, 0]");
+  EXPECT_NEAR(loadScene(write("moving.toml", moving)).simulation.impactSpeed,
+              2 * (particle + 2 * 0.5), 1e-12);
+}
+
+TEST_F(SceneLoader, HertzStepCheckUsesTheHeadOnApproachOfTwoSpheres) {
+  // Two equal undamped Hertz spheres at ±0.5 m/s along x meet at 1 m/s. Their contact lasts
+  // t_c = 3.2181 (m*/K)^(2/5) v^(-1/5) at v = 1 m/s, 2^(-1/5) = 0.87 times the duration at the
+  // 0.5 m/s of either sphere: the step check must take the duration of the contact that happens.
+  // Measured on the impact itself (at t_c/1300), the duration is the engine's t_c; and a step
+  // between 1/50 of the two durations is refused (it was accepted while the check took 0.5 m/s).
+  write("pair.csv", "x,y,z,r,vx,vy,vz\n0.465,0.5,0.5,0.03,0.5,0,0\n0.535,0.5,0.5,0.03,-0.5,0,0\n");
+  const std::string scene = R"([material]
+normal_law = "hertz"
+normal_damping = 0.0
+[simulation]
+time_step = 1e-5
+gravity = [0, 0, 0]
+[box]
+min = [0, 0, 0]
+max = [1, 1, 1]
+walls = []
+[[particles]]
+type = "csv"
+file = "pair.csv"
+[[stages]]
+max_time = 0.2
+)";
+  const Scene s = loadScene(write("pair.toml", scene));
+  EXPECT_EQ(s.simulation.impactSpeed, 1.0);
+  Simulation sim = buildSimulation(s);
+  sim.setThreads(1);  // two spheres: a team of threads would only wait
+  const Particles& p = sim.particles();
+  const double K = s.simulation.material.normalCoefficient() * std::sqrt(0.015);
+  const double duration = hertzUndampedImpact(K, 0.5 * p.mass[0], 1.0).forceDuration;
+  const double slower = hertzUndampedImpact(K, 0.5 * p.mass[0], 0.5).forceDuration;
+  EXPECT_NEAR(duration / slower, std::pow(2.0, -0.2), 1e-12);
+  EXPECT_NEAR(sim.contactScale().duration, duration, 1e-12 * duration);
+  double touch = -1, apart = -1;
+  while (apart < 0 && sim.time() < 0.1) {
+    sim.step();
+    const bool touching = p.position[1].x() - p.position[0].x() < 0.06;
+    if (touching && touch < 0) touch = sim.time();
+    if (!touching && touch >= 0) apart = sim.time();
+  }
+  EXPECT_NEAR(apart - touch, duration, 2e-5);  // each end found within a step
+  const double between = 0.5 * (duration + slower) / 50;
+  const std::string message =
+      errorOf(replaced(scene, "time_step = 1e-5", "time_step = " + std::to_string(between)));
+  std::ostringstream limit;
+  limit << "stable limit " << duration / 50 << " s of gear5";
+  EXPECT_NE(message.find(limit.str()), std::string::npos) << message;
 }
 
 TEST_F(SceneLoader, MessageNamesFileLineKeyValueAndRange) {

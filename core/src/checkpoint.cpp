@@ -269,6 +269,8 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   fields(w, const_cast<SimulationState&>(state));  // read only
   std::string data = appData;
   w(data);
+  bool noPull = state.config.material.noPull;  // version 4
+  w(noPull);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -363,6 +365,7 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
   fields(r, *state);
   std::string appData;
   if (version >= 3) r(appData);
+  if (version >= 4) r(state->config.material.noPull);
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
   state->neighbours.plan.valid = false;  // derived data: built by the next force pass

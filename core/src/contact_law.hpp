@@ -32,6 +32,7 @@ struct ContactConstants {
   double tangentialDamping;      ///< γt [1/s]
   double friction;               ///< μ [-]
   double dt;                     ///< [s]
+  double normalForceFloor;       ///< 0 (no pull: F_n = max(0, ·)) or −∞ (Material::noPull) [N]
 };
 
 /// Contacts per chunk: 64 fill the arrays below with ≈ 27 KB, about what an L1 data cache holds
@@ -113,13 +114,13 @@ template <bool kFriction>
 }
 
 /// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body:
-/// normal elastic k R^(2-α) h^α plus dashpot γn m ḣ, clamped at zero (never pulling); with
-/// friction the tangential spring k_t ξ, k_t = (8/3) G √(R h)/(2-ν), plus dashpot γt m v_t,
-/// capped at μ F_n. The stored spring is first rotated into the current tangent plane keeping
-/// its length (the contact frame turns with the particles, the stretch does not grow or shrink
-/// by it); while sliding it is reset so that the spring alone carries the cap. With kAdvance
-/// the spring is advanced by v_t Δt and written back; without, the force is evaluated for the
-/// stored spring (measurements between steps).
+/// normal elastic k R^(2-α) h^α plus dashpot γn m ḣ, clamped at zero (never pulling) unless
+/// the scene allows a pull; with friction the tangential spring k_t ξ, k_t = (8/3) G √(R h)/(2-ν),
+/// plus dashpot γt m v_t, capped at μ |F_n|. The stored spring is first rotated into the current
+/// tangent plane keeping its length (the contact frame turns with the particles, the stretch does
+/// not grow or shrink by it); while sliding it is reset so that the spring alone carries the cap.
+/// With kAdvance the spring is advanced by v_t Δt and written back; without, the force is evaluated
+/// for the stored spring (measurements between steps).
 template <bool kFriction, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void contactLaw(const ContactConstants& k0, ContactChunk& c,
                                               std::size_t count) {
@@ -130,7 +131,7 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
   for (std::size_t k = 0; k < count; ++k) {
     const double h = c.overlap[k], nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
     const double radius = c.radius[k], mass = c.mass[k];
-    // Normal: elastic + viscous, never pulling.
+    // Normal: elastic + viscous, never pulling unless the floor is −∞ (max(−∞, x) = x).
     double fe, elastic;
     if constexpr (kLaw == NormalLaw::Hooke) {
       fe = k0.normalCoefficient * radius * h;
@@ -140,7 +141,7 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       elastic = 0.4 * fe * h;
     }
     const double rate = c.vx[k] * nx + c.vy[k] * ny + c.vz[k] * nz;  // ḣ
-    const double fn = std::max(0.0, fe + k0.normalDamping * mass * rate);
+    const double fn = std::max(k0.normalForceFloor, fe + k0.normalDamping * mass * rate);
     c.fx[k] = -fn * nx;
     c.fy[k] = -fn * ny;
     c.fz[k] = -fn * nz;
@@ -182,7 +183,7 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       c.vty[k] = vty;
       c.vtz[k] = vtz;
       c.kt[k] = kt;
-      c.limit[k] = k0.friction * fn;
+      c.limit[k] = k0.friction * std::abs(fn);  // μ |F_n|: F_n < 0 only with a pull
       c.tangentialDampingPower[k] = damping * (vtx * vtx + vty * vty + vtz * vtz);
     }
   }

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "contact_law.hpp"
@@ -31,7 +32,8 @@ ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
           m.normalDamping,
           m.tangentialDamping,
           m.friction,
-          dt};
+          dt,
+          m.noPull ? 0.0 : -std::numeric_limits<double>::infinity()};
 }
 
 // ---- 0. The chunk kernels, built twice ----------------------------------------------------

@@ -20,8 +20,8 @@ std::optional<ImpactPrediction> predictPairImpact(const PairImpactSpec& spec) {
   const Material& mat = spec.material;
   const double radius = pairReducedRadius(spec), mass = pairReducedMass(spec);
   if (mat.normalLaw == NormalLaw::Hooke) {
-    return hookeDampedImpact(mat.normalCoefficient() * radius, mat.normalDamping, mass,
-                             spec.approachSpeed);
+    const auto impact = mat.noPull ? hookeDampedImpact : hookeDampedImpactWithPull;
+    return impact(mat.normalCoefficient() * radius, mat.normalDamping, mass, spec.approachSpeed);
   }
   if (mat.normalDamping == 0.0) {
     return hertzUndampedImpact(mat.normalCoefficient() * std::sqrt(radius), mass,

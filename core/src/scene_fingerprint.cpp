@@ -51,10 +51,10 @@ class Canonical {
 
 std::uint64_t materialHash(const Material& m) {
   const auto& [youngModulus, poissonRatio, shearModulus, density, friction, normalDamping,
-               tangentialDamping, normalLaw] = m;
+               tangentialDamping, normalLaw, noPull] = m;
   Canonical c;
   c << youngModulus << poissonRatio << shearModulus << density << friction << normalDamping
-    << tangentialDamping << normalLaw;
+    << tangentialDamping << normalLaw << noPull;
   return c.hash();
 }
 
@@ -96,7 +96,9 @@ std::uint64_t stageHash(const StageSpec& s) {
 }
 
 std::uint64_t outputHash(const OutputSpec& o) {
-  const auto& [interval, snapshotTimes] = o;
+  // The run checks only watch the run: a limit relaxed after a stop may resume the same run.
+  const auto& [interval, snapshotTimes, checks] = o;
+  (void)checks;
   Canonical c;
   c << interval << std::uint64_t(snapshotTimes.size());
   for (double t : snapshotTimes) c << t;

@@ -13,8 +13,9 @@
 /// material.density                    | kg/m³ | (0, 1e12]                    | 500
 /// material.friction                   | -     | [0, 10]                      | 0
 /// material.normal_damping             | 1/s   | >= 0                         | 60
-/// material.tangential_damping         | 1/s   | >= 0                         | 10
+/// material.tangential_damping         | 1/s   | >= 0; μ > 0: <= z/(21 Δt)    | 10
 /// material.normal_law                 | -     | "hooke" | "hertz"            | "hooke"
+/// material.no_pull                    | -     | boolean                      | true
 /// simulation.gravity                  | m/s²  | 3 finite numbers             | [0, 0, -9.81]
 /// simulation.integrator               | -     | "gear5" | "verlet"           | "gear5"
 /// simulation.time_step                | s     | > 0                          | required
@@ -41,15 +42,21 @@
 /// stages[i].wall_velocity.<wall>      | m/s   | 3 finite numbers             | at rest
 /// output.interval                     | s     | > 0                          | 0.01
 /// output.snapshots                    | s     | numbers >= 0 (stage clock)   | []
+/// output.energy_drift_limit           | -     | > 0 (fraction of work done)  | 0.05
+/// output.on_failed_check              | -     | "warn" | "stop"              | "warn"
 // clang-format on
 ///
-/// The default impact_speed (used by the Hertz time-step check only) is the largest initial
-/// particle speed plus the free-fall speed sqrt(2|g|h), h being the height of the highest
-/// particle top above the box floor; 1 m/s if that comes out as 0 (no gravity, no motion).
+/// The default impact_speed (used by the Hertz time-step check only) is the largest approach
+/// speed: twice the largest particle speed, which is the largest initial speed plus the
+/// free-fall speed sqrt(2|g|h), h being the height of the highest particle top above the box
+/// floor, plus twice the fastest wall of any stage; 1 m/s if that comes out as 0 (no gravity,
+/// no motion).
 ///
 /// Particles are checked as the builder will place them: each must lie inside the box, the rows
 /// of a CSV file must not overlap, and the time step must be below the engine's limit
 /// (maxStableStep: a fraction of the stiffest contact's duration that depends on the integrator).
+/// With friction, γt must be at most maxTangentialDamping: z/(21 Δt), z = 0.163 (gear5) or 1
+/// (verlet), the tangential dashpots' explicit stability.
 /// The loader does these checks so that the message names the file, the key and the CSV line; the
 /// builder and the engine check again.
 ///
@@ -153,6 +160,7 @@ Material readMaterial(const TomlTableReader& root, const std::string& file) {
   m.tangentialDamping = r.number("tangential_damping", m.tangentialDamping, Range::atLeast(0));
   const std::string law = r.choice("normal_law", "hooke", {"hooke", "hertz"});
   m.normalLaw = law == "hertz" ? NormalLaw::Hertz : NormalLaw::Hooke;
+  m.noPull = r.boolean("no_pull", m.noPull);
   return m;
 }
 
@@ -452,14 +460,28 @@ OutputSpec readOutput(const TomlTableReader& root, const std::string& file) {
   output.interval = r.number("interval", output.interval, Range::above(0));
   output.snapshotTimes = r.numbers("snapshots", Range::atLeast(0));
   std::sort(output.snapshotTimes.begin(), output.snapshotTimes.end());
+  output.checks.energyDriftLimit =
+      r.number("energy_drift_limit", output.checks.energyDriftLimit, Range::above(0));
+  const std::string action = r.choice("on_failed_check", "warn", {"warn", "stop"});
+  output.checks.onFailedCheck = action == "stop" ? CheckAction::Stop : CheckAction::Warn;
   return output;
 }
 
-/// Largest initial speed plus the free-fall speed from the highest particle top to the floor.
-double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity) {
+/// The largest approach speed a contact can have: two particles head-on, each at the largest
+/// speed a particle can reach, which is its largest initial speed, plus the free-fall speed from
+/// the highest particle top to the floor, plus twice the fastest wall's speed (a particle struck
+/// by a wall leaves it at up to twice the wall's speed). A particle meets a wall at most at that
+/// speed plus the wall's, which is less than twice it.
+double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity,
+                          const std::vector<StageSpec>& stages) {
   const double height = std::max(0.0, bound.highestTop - box.min.z());
-  const double speed = bound.fastest + std::sqrt(2.0 * gravity.norm() * height);
-  return speed > 0.0 ? speed : 1.0;
+  double wall = 0.0;
+  for (const StageSpec& stage : stages) {
+    for (const WallMotion& motion : stage.wallMotions)
+      wall = std::max(wall, motion.velocity.norm());
+  }
+  const double particle = bound.fastest + std::sqrt(2.0 * gravity.norm() * height) + 2.0 * wall;
+  return particle > 0.0 ? 2.0 * particle : 1.0;
 }
 
 // 7. Time step ------------------------------------------------------------------------------------
@@ -503,6 +525,12 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
     }
     const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
     simulation.fail("time_step", e.what());
+  }
+  try {
+    requireStableTangentialDamping(material, scene.simulation.timeStep,
+                                   scene.simulation.integrator);
+  } catch (const ConfigError& e) {
+    tableOrRoot(root, "material", file).fail("tangential_damping", e.what());
   }
 }
 
@@ -562,7 +590,8 @@ Scene loadScene(const std::filesystem::path& file) {
   scene.stages = readStages(root, name, scene.box, scene.simulation.timeStep);
   scene.output = readOutput(root, name);
   if (!impactSpeedGiven) {
-    scene.simulation.impactSpeed = defaultImpactSpeed(bound, scene.box, scene.simulation.gravity);
+    scene.simulation.impactSpeed =
+        defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages);
   }
   checkTimeStep(root, name, scene, bound);
   return scene;

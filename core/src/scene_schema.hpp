@@ -11,8 +11,8 @@ namespace granular::scene_schema {
 inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
                                                  "total_mass", "stages",     "output"};
 inline constexpr std::string_view kMaterial[] = {
-    "youngs_modulus", "poisson_ratio",  "shear_modulus",      "density",
-    "friction",       "normal_damping", "tangential_damping", "normal_law"};
+    "youngs_modulus", "poisson_ratio",      "shear_modulus", "density", "friction",
+    "normal_damping", "tangential_damping", "normal_law",    "no_pull"};
 inline constexpr std::string_view kSimulation[] = {"gravity", "integrator", "time_step", "skin",
                                                    "impact_speed"};
 inline constexpr std::string_view kBox[] = {"min", "max", "walls"};
@@ -27,7 +27,8 @@ inline constexpr std::string_view kStage[] = {"name",
                                               "place_top_wall_on_surface",
                                               "reset_clock",
                                               "wall_velocity"};
-inline constexpr std::string_view kOutput[] = {"interval", "snapshots"};
+inline constexpr std::string_view kOutput[] = {"interval", "snapshots", "energy_drift_limit",
+                                               "on_failed_check"};
 
 struct Table {
   std::string_view name;  ///< as docs/scenes.md heads its section: "" top level, "particles.grid"

@@ -167,6 +167,30 @@ void requireStableStep(double dt, const ContactScale& scale, Integrator integrat
   }
 }
 
+double maxTangentialDamping(double dt, Integrator integrator) {
+  const double stability =
+      integrator == Integrator::Gear5 ? kDamperStabilityGear5 : kDamperStabilityVerlet;
+  return stability / (kTangentialContactsAtOnce * kTangentialRatePerContact * dt);
+}
+
+void requireStableTangentialDamping(const Material& material, double dt, Integrator integrator) {
+  if (!material.hasFriction()) return;  // no tangential force: γt acts on nothing
+  const double limit = maxTangentialDamping(dt, integrator);
+  if (!(material.tangentialDamping <= limit)) {
+    const bool gear = integrator == Integrator::Gear5;
+    std::ostringstream msg;
+    msg << "tangential damping " << material.tangentialDamping << " 1/s is above the stable limit "
+        << limit << " 1/s at the time step " << dt << " s of "
+        << (gear ? "gear5" : "velocity Verlet")
+        << ": a sticking contact's dashpot slows it at 3.5 γt, a bed's contacts act together (up "
+           "to 6 at once) and "
+        << (gear ? "gear5" : "velocity Verlet") << " keeps a damper stable only for rate·Δt <= "
+        << (gear ? kDamperStabilityGear5 : kDamperStabilityVerlet) << "; use at most " << limit
+        << " 1/s or a smaller time step";
+    throw ConfigError(msg.str());
+  }
+}
+
 // ---- Set-up -------------------------------------------------------------------------------
 
 Simulation::Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config)
@@ -184,6 +208,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   // Refuse a step the contacts cannot resolve (design §2: report the contact duration).
   s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
   requireStableStep(config.timeStep, s.contactScale, config.integrator);
+  requireStableTangentialDamping(config.material, config.timeStep, config.integrator);
   s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
 
   const bool gear = config.integrator == Integrator::Gear5;
@@ -405,6 +430,7 @@ void Simulation::setTimeStep(double dt) {
   require(std::isfinite(dt) && dt > 0, "time step = " + str(dt) + " s: must be > 0");
   if (!state_->stepLimitDisabled) {
     requireStableStep(dt, state_->contactScale, state_->config.integrator);
+    requireStableTangentialDamping(state_->config.material, dt, state_->config.integrator);
   }
   // The clock counts steps from its origin: move the origin here so the time runs on unbroken.
   state_->timeOrigin = time();
@@ -418,14 +444,18 @@ void Simulation::setMaterial(const Material& material) {
   if (material.youngModulus == now.youngModulus && material.poissonRatio == now.poissonRatio &&
       material.shearModulus == now.shearModulus && material.density == now.density &&
       material.friction == now.friction && material.normalDamping == now.normalDamping &&
-      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw) {
+      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw &&
+      material.noPull == now.noPull) {
     return;  // nothing changes, not even the bits
   }
   validateMaterial(material);
   const Particles& p = s.particles;
   const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
   const ContactScale scale = stiffestContact(material, rMin, s.config.impactSpeed);
-  if (!s.stepLimitDisabled) requireStableStep(s.config.timeStep, scale, s.config.integrator);
+  if (!s.stepLimitDisabled) {
+    requireStableStep(s.config.timeStep, scale, s.config.integrator);
+    requireStableTangentialDamping(material, s.config.timeStep, s.config.integrator);
+  }
   // Accepted: nothing above has changed the state.
   s.config.material = material;
   s.contactScale = scale;
@@ -464,7 +494,10 @@ void Simulation::setMaterial(const Material& material) {
 void Simulation::setIntegrator(Integrator integrator) {
   SimulationState& s = *state_;
   if (integrator == s.config.integrator) return;
-  if (!s.stepLimitDisabled) requireStableStep(s.config.timeStep, s.contactScale, integrator);
+  if (!s.stepLimitDisabled) {
+    requireStableStep(s.config.timeStep, s.contactScale, integrator);
+    requireStableTangentialDamping(s.config.material, s.config.timeStep, integrator);
+  }
   const std::size_t n = s.particles.size();
   for (Derivatives* d : {&s.translation, &s.rotation}) {
     if (d->d2.empty()) continue;  // no rotations on the frictionless path

@@ -31,7 +31,8 @@ class CheckpointError : public std::runtime_error {
 
 /// 2: no inverse masses or Gear rotational positions (not needed to continue bit for bit).
 /// 3: the caller's data after the state (a run's stage progress).
-/// 4: the fingerprint's parts before the state, so that a refusal can name what changed.
+/// 4: the fingerprint's parts before the state, so that a refusal can name what changed; and
+///    Material::noPull (one flag byte) at the end of the payload (versions 2 and 3: true).
 /// Versions 2 and 3 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
 inline constexpr std::uint32_t kCheckpointVersion = 4;

@@ -21,6 +21,13 @@ struct ImpactPrediction {
 ImpactPrediction hookeDampedImpact(double stiffness, double normalDamping, double reducedMass,
                                    double approachSpeed);
 
+/// The same contact without the no-pull clamp (Material::noPull false): the damped oscillation
+/// runs until the overlap closes, at t = π/ωd, the force k·h + c·ḣ pulling after it has turned
+/// negative. Force and overlap duration π/ωd, restitution e^(−βπ/ωd), the same peak overlap.
+/// Requires an under-damped contact; throws ConfigError otherwise.
+ImpactPrediction hookeDampedImpactWithPull(double stiffness, double normalDamping,
+                                           double reducedMass, double approachSpeed);
+
 /// Hertz F = K·h^(3/2) without damping (K = (4/3)E*·sqrt(R*) = (2/3)E/(1-ν²)·sqrt(R_ij) here):
 /// duration 3.2181·(m/K)^(2/5)·v^(-1/5) (= 2.87·(m*²/(R* E*² v))^(1/5)), peak overlap
 /// (5 m v²/(4 K))^(2/5), restitution 1.
@@ -48,5 +55,21 @@ ContactScale stiffestContact(const Material& material, double smallestRadius, do
 /// accurate range is 1/50 to 1/20 for Verlet, 1/50 and below for Gear.
 inline constexpr double kMaxStepFractionVerlet = 0.1;
 inline constexpr double kMaxStepFractionGear5 = 0.02;
+
+/// The tangential dashpot F_t = −γt m_ij v_t of a sticking contact is an explicit damper, and
+/// each integrator keeps a damper x'' = −λ x' stable only below a largest λΔt: Gear5 (with
+/// c0 = 3/20) 0.1634, velocity Verlet (dashpots at the predicted velocity) exactly 1. Those are
+/// the roots of the schemes' amplification matrices on x'' = −λ x' (docs/physics.md §2.7).
+inline constexpr double kDamperStabilityGear5 = 0.163;
+inline constexpr double kDamperStabilityVerlet = 1.0;
+/// One contact's dashpot slows the contact-point velocity at the rate
+/// γt m_ij (1/m_i + 1/m_j + a_i²/I_i + a_j²/I_j): translation and rotation of both spheres. For
+/// solid spheres (I = (2/5) m R², lever arm a ≈ R) a²/I = 5/(2m), so the rate is (7/2) γt for any
+/// two sizes and against a wall (m_j = I_j = ∞) alike.
+inline constexpr double kTangentialRatePerContact = 3.5;
+/// A bed's dashpots act together: the largest rate of the whole network (the largest eigenvalue
+/// of M⁻¹C) was measured at 3.4 (the demo's 200 settled spheres) and 3.9 (the paper's 1980) times
+/// one contact's; 6 allows for denser, compressed beds.
+inline constexpr double kTangentialContactsAtOnce = 6.0;
 
 }  // namespace granular

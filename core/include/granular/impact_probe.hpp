@@ -46,7 +46,8 @@ double pairReducedRadius(const PairImpactSpec& spec);
 double pairReducedMass(const PairImpactSpec& spec);
 
 /// The closed form for the spec's law: hookeDampedImpact for Hooke (any damping that leaves the
-/// contact under-damped), hertzUndampedImpact for Hertz without damping; none for damped Hertz.
+/// contact under-damped; hookeDampedImpactWithPull without the no-pull clamp), hertzUndampedImpact
+/// for Hertz without damping; none for damped Hertz.
 std::optional<ImpactPrediction> predictPairImpact(const PairImpactSpec& spec);
 
 /// The initial gap [m] that puts the first touch at `phase` ∈ [0, 1) of the third step (two free

@@ -15,6 +15,10 @@ struct Material {
   double normalDamping = 60.0;      ///< normal viscous damping γn [1/s]
   double tangentialDamping = 10.0;  ///< tangential viscous damping γt [1/s]
   NormalLaw normalLaw = NormalLaw::Hooke;  ///< α = 1 (Hooke) or 3/2 (Hertz)
+  /// The normal force is clamped at zero, F_n = max(0, k h^α + γn m ḣ): it never pulls (design
+  /// §2). False, for comparison with codes that allow a pull: F_n = k h^α + γn m ḣ, which the
+  /// dashpot makes negative while overlapping spheres separate fast enough.
+  bool noPull = true;
 
   /// (2/3) E/(1-ν²): multiplies R^(2-α) h^α in the normal elastic force [Pa].
   double normalCoefficient() const {

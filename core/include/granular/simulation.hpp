@@ -27,6 +27,13 @@ double maxStableStep(const ContactScale& scale, Integrator integrator);
 /// Throws ConfigError, naming the limit, the contact duration and the integrator, when `dt` is
 /// above maxStableStep (the engine's own check; the scene loader uses it too).
 void requireStableStep(double dt, const ContactScale& scale, Integrator integrator);
+/// The largest tangential damping γt [1/s] the engine accepts at step `dt` [s]: the bed's
+/// dashpots, rate kTangentialContactsAtOnce · kTangentialRatePerContact · γt, must stay within
+/// the integrator's explicit stability (kDamperStabilityGear5, kDamperStabilityVerlet).
+double maxTangentialDamping(double dt, Integrator integrator);
+/// Throws ConfigError, naming the limit, the step and the integrator, when the material has
+/// friction and its γt is above maxTangentialDamping (without friction γt acts on nothing).
+void requireStableTangentialDamping(const Material& material, double dt, Integrator integrator);
 
 /// Everything the engine needs besides the particles and walls.
 struct SimulationConfig {

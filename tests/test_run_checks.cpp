@@ -1,0 +1,205 @@
+/// The checks a run makes of itself at its samples (run_checks.hpp): the energy balance and
+/// particles outside the box, in the core and as `granular run` reports them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "granular/run_checks.hpp"
+#include "granular_process.hpp"
+#include "physics_fixtures.hpp"
+#include "run_progress.hpp"
+
+using namespace granular;
+using granular::testing::fallingGrid;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+/// A fresh folder under the build tree for one test.
+fs::path workFolder(const std::string& name) {
+  const fs::path dir = fs::path(GRANULAR_BINARY_DIR) / "run-checks-test" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+}  // namespace
+
+TEST(EnergyRunChecks, FreeFallKeepsItsBalanceAndLeavesTheOpenFloorWhenTheClosedFormSays) {
+  // One sphere falls from rest in a box with no walls. Gravity alone: the ledger's total
+  // (K − work of gravity) stays at its start to round-off, so even a drift limit of 1e-12 is
+  // never passed. The sphere is wholly below the open floor (z = 0) once z < −R, at
+  // t* = sqrt(2 (z0 + R)/g): reported at the first sample at or after t*, never before.
+  const double z0 = 0.2, r = 0.03, g = 9.81, interval = 0.01;
+  SimulationConfig cfg;
+  cfg.timeStep = 1e-4;
+  cfg.gravity = Vec3(0, 0, -g);
+  Particles p;
+  p.add(Vec3(0.5, 0.5, z0), r, cfg.material.density);
+  Simulation sim(std::move(p), {}, cfg);
+  BoxSpec box;
+  box.walls.fill(false);
+  RunCheckSpec spec;
+  spec.energyDriftLimit = 1e-12;
+  RunChecks checks(spec, box, sim.energy().total());
+  const double tStar = std::sqrt(2.0 * (z0 + r) / g);
+  double reportedAt = -1;
+  for (int k = 0; k <= 40; ++k) {
+    if (k > 0) sim.run(100);  // one sample every 100 steps: 0.01 s
+    for (const std::string& found : checks.atSample(sim, "fall")) {
+      ASSERT_LT(reportedAt, 0.0) << "reported twice: " << found;
+      EXPECT_TRUE(contains(found, "particle 0 is outside the box")) << found;
+      EXPECT_TRUE(contains(found, "the open face bottom")) << found;
+      EXPECT_TRUE(contains(found, "(stage fall)")) << found;
+      reportedAt = sim.time();
+    }
+  }
+  EXPECT_GE(reportedAt, tStar);
+  EXPECT_LT(reportedAt, tStar + interval);
+}
+
+TEST(EnergyRunChecks, BedAboveTheDampingLimitIsReportedOnceAndStoppedUnderStop) {
+  // 150 frictional spheres settle under Gear5 at the paper's step. At the largest γt accepted
+  // the balance closes (tests/test_tangential_damping.cpp) and no sample reports anything; at 8×
+  // it the bed's dashpots are unstable and energy grows without work: reported once, at a
+  // sample, naming the time and step; under Stop the run ends there with the same message.
+  SimulationConfig cfg;
+  cfg.material.friction = 0.3;
+  cfg.timeStep = 1.7e-4;
+  cfg.threads = 1;
+  const double limit = maxTangentialDamping(cfg.timeStep, cfg.integrator);
+  BoxSpec box;
+  box.max = Vec3(0.5, 0.5, 1.0);
+  for (double factor : {1.0, 8.0}) {
+    for (CheckAction action : {CheckAction::Warn, CheckAction::Stop}) {
+      Simulation sim = fallingGrid(5, 5, 6, cfg, 0.3);
+      sim.disableStepLimitForStudies(true);
+      Material m = cfg.material;
+      m.tangentialDamping = factor * limit;
+      sim.setMaterial(m);
+      RunCheckSpec spec;
+      spec.onFailedCheck = action;
+      RunChecks checks(spec, box, sim.energy().total());
+      std::vector<std::string> found;
+      std::string stopped;
+      try {
+        while (sim.time() < 1.0) {
+          sim.run(59);  // about 0.01 s
+          for (std::string& f : checks.atSample(sim, "settle")) found.push_back(std::move(f));
+        }
+      } catch (const RunCheckError& e) {
+        stopped = e.what();
+      }
+      if (factor == 1.0) {
+        EXPECT_TRUE(found.empty() && stopped.empty()) << (found.empty() ? stopped : found[0]);
+        continue;
+      }
+      const std::string& message = action == CheckAction::Warn ? found.at(0) : stopped;
+      EXPECT_EQ(found.size(), action == CheckAction::Warn ? 1u : 0u);
+      EXPECT_TRUE(contains(message, "energy balance drifted by +")) << message;
+      EXPECT_TRUE(contains(message, "% of the work done, limit 5 %) at t = ")) << message;
+      EXPECT_TRUE(contains(message, "the time step or a damping coefficient")) << message;
+      if (action == CheckAction::Stop) {
+        EXPECT_LT(sim.time(), 1.0);
+      }
+    }
+  }
+}
+
+TEST(EnergyRunChecks, WorkDoneCountsEveryFlowOnce) {
+  EnergyBalance e;
+  e.gravityWork = 4.0;
+  e.wallWork = -1.0;
+  e.tangentialStiffnessWork = 0.5;
+  e.dissipatedNormal = 2.0;
+  e.dissipatedTangential = 0.25;
+  e.dissipatedFriction = -0.125;  // a remainder, of either sign
+  EXPECT_EQ(RunChecks::workDone(e, 3.0), 3.0 + 4.0 + 1.0 + 0.5 + 2.0 + 0.25 + 0.125);
+}
+
+TEST(EnergyRunChecks, TheReferenceTravelsWithTheCheckpointsProgress) {
+  app::RunProgress p;
+  p.energyReference = 0.1 + 0.2;  // not a short decimal: it must come back to the bit
+  const app::RunProgress back = app::decodeRunProgress(app::encodeRunProgress(p), "f");
+  ASSERT_TRUE(back.energyReference.has_value());
+  EXPECT_EQ(*back.energyReference, 0.1 + 0.2);
+  p.energyReference.reset();  // written before it was kept: the run measures from its resume
+  EXPECT_FALSE(app::decodeRunProgress(app::encodeRunProgress(p), "f").energyReference);
+}
+
+namespace {
+
+/// 8 spheres in a 0.5 m box, at up to `speed` m/s, falling for 0.3 s, then pressed for 0.05 s by
+/// a top wall placed on them and moving at `topVelocity`; `output` is added to [output].
+fs::path writeScene(const fs::path& dir, double speed, const std::string& topVelocity,
+                    const std::string& output) {
+  const fs::path file = dir / "scene.toml";
+  std::ofstream(file) << "[material]\nfriction = 0.3\n"
+                         "[simulation]\ntime_step = 1.7e-4\n"
+                         "[box]\nmin = [0, 0, 0]\nmax = [0.5, 0.5, 1]\n"
+                         "[[particles]]\ntype = \"grid\"\norigin = [0, 0, 0]\ncell_size = 0.1\n"
+                         "cells = [2, 2, 2]\nradius_min = 0.03\nradius_max = 0.035\n"
+                         "speed_max = "
+                      << speed
+                      << "\n"
+                         "[[stages]]\nname = \"fall\"\nmax_time = 0.3\n"
+                         "[[stages]]\nname = \"press\"\nmax_time = 0.05\n"
+                         "place_top_wall_on_surface = true\n"
+                         "[stages.wall_velocity]\ntop = "
+                      << topVelocity << "\n[output]\ninterval = 0.01\n"
+                      << output;
+  return file;
+}
+
+struct Outcome {
+  int status;
+  std::string stderrText, summary;
+};
+
+Outcome runScene(const fs::path& dir, const fs::path& scene) {
+  granular::testing::GranularProcess run(
+      {"run", scene.string(), "--out", (dir / "out").string(), "-q"}, dir / "stderr.txt");
+  EXPECT_TRUE(run.started());
+  const int status = run.wait();
+  return {status, run.stderrText(), granular::testing::readFile(dir / "out" / "summary.txt")};
+}
+
+}  // namespace
+
+TEST(EnergyRunChecks, RunCommandWarnsOnStderrAndInTheSummaryOrStopsWithExitThree) {
+  // A sane scene: nothing to report. Spheres at up to 1000 m/s cross a 6 cm sphere in 0.2
+  // steps and tunnel through each other and the walls: energy appears from nowhere and
+  // spheres leave the box. A lid driven down at 10⁶ m/s passes through every sphere in one step.
+  const fs::path dir = workFolder("command");
+  Outcome sane = runScene(dir, writeScene(dir, 0.3, "[0, 0, -0.01]", ""));
+  EXPECT_EQ(sane.status, 0) << sane.stderrText;
+  EXPECT_EQ(sane.stderrText, "");
+  EXPECT_FALSE(contains(sane.summary, "warning")) << sane.summary;
+
+  Outcome fast = runScene(dir, writeScene(dir, 1000.0, "[0, 0, -0.01]", ""));
+  EXPECT_EQ(fast.status, 0) << fast.stderrText;
+  for (const char* part : {"warning: energy balance drifted by +", "(stage fall)",
+                           "warning: particle ", " is outside the box at t = "}) {
+    EXPECT_TRUE(contains(fast.stderrText, part)) << part << " in\n" << fast.stderrText;
+    EXPECT_TRUE(contains(fast.summary, part)) << part << " in\n" << fast.summary;
+  }
+
+  Outcome stopped =
+      runScene(dir, writeScene(dir, 1000.0, "[0, 0, -0.01]", "on_failed_check = \"stop\"\n"));
+  EXPECT_EQ(stopped.status, 3) << stopped.stderrText;
+  EXPECT_TRUE(contains(stopped.stderrText, "error: energy balance drifted by +"))
+      << stopped.stderrText;
+
+  Outcome lid = runScene(dir, writeScene(dir, 0.3, "[0, 0, -1e6]", "on_failed_check = \"stop\"\n"));
+  EXPECT_EQ(lid.status, 3) << lid.stderrText;
+  EXPECT_TRUE(contains(lid.stderrText, "(stage press)")) << lid.stderrText;
+  EXPECT_TRUE(contains(lid.stderrText, "is outside the box")) << lid.stderrText;
+}
