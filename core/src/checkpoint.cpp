@@ -231,10 +231,10 @@ std::vector<char> readAll(const std::filesystem::path& file) {
     header.seekg(std::streamoff(kFrameBytes - sizeof payloadBytes));
     header.read(reinterpret_cast<char*>(&payloadBytes), sizeof payloadBytes);
     if (header && size - kFrameBytes - sizeof(std::uint64_t) != payloadBytes) {
-      throw CheckpointError(file.string() + ": truncated or padded checkpoint: " +
-                            std::to_string(size) + " bytes, the header announces a " +
-                            std::to_string(payloadBytes) + "-byte payload in a " +
-                            std::to_string(kFrameBytes + sizeof(std::uint64_t)) + "-byte frame");
+      throw CheckpointError(
+          file.string() + ": truncated or padded checkpoint: " + std::to_string(size) +
+          " bytes, the header announces a " + std::to_string(payloadBytes) + "-byte payload in a " +
+          std::to_string(kFrameBytes + sizeof(std::uint64_t)) + "-byte frame");
     }
   }
   const std::uint64_t available = availableMemoryBytes();
