@@ -2,6 +2,7 @@
 /// read: each names what is wrong in the user's words (the command, the option and its value,
 /// the file) and exits with the documented status, never a misleading one.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -21,7 +22,9 @@ struct Outcome {
 };
 
 Outcome run(const std::vector<std::string>& args) {
-  const fs::path err = fs::temp_directory_path() / "granular_user_messages.err";
+  // One file per test process: ctest runs these tests side by side.
+  const fs::path err =
+      fs::temp_directory_path() / ("granular_user_messages_" + std::to_string(::getpid()) + ".err");
   granular::testing::GranularProcess p(args, err, {"OMP_NUM_THREADS=1"});
   EXPECT_TRUE(p.started());
   Outcome o;
