@@ -18,7 +18,7 @@
 /// Arrays of 1 MiB and more are mapped on their own (mallopt in main), so that an array freed
 /// by a rebuild leaves the resident set at once instead of staying in glibc's heap. Two
 /// threads need a little more than one: the pairs straddling them keep a copy of their spring
-/// for the second thread, and the force pass's plan lists them (core/src/force_pass.cpp).
+/// for the second thread, and the force pass's plan lists them (core/engine/src/force_pass.cpp).
 ///
 /// Usage: granular_bench_scale [--n 1000,10000,...] [--settle S] [--steps T] [--layers L]
 ///                             [--friction MU] [--integrator gear5|verlet]

@@ -1,5 +1,5 @@
 /// Simulation::run(k) lets each step but the last predict the next one inside its corrector's
-/// loop (core/src/simulation.cpp, `advance`), and runStage runs the steps nobody observes as
+/// loop (core/engine/src/simulation.cpp, `advance`), and runStage runs the steps nobody observes as
 /// such batches. These tests check that nothing of that shows: the same bits as one step() at a
 /// time, the same observations, and a broken state still caught within the step that broke it.
 #include <gtest/gtest.h>

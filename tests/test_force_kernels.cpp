@@ -1,6 +1,6 @@
 /// The contact law's loops and the integrators' loops exist in two builds (baseline x86-64 and
-/// AVX2, core/src/force_pass.cpp and integrators.cpp) and the CPU picks one. They must give the
-/// same bits: a run on one machine reproduces on another whichever build each has.
+/// AVX2, core/engine/src/force_pass.cpp and integrators.cpp) and the CPU picks one. They must give
+/// the same bits: a run on one machine reproduces on another whichever build each has.
 #include <gtest/gtest.h>
 
 #include <vector>

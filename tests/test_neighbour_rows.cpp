@@ -1,4 +1,4 @@
-/// The neighbour list's compact layout (core/src/simulation_state.hpp): pairs stored as
+/// The neighbour list's compact layout (core/engine/src/simulation_state.hpp): pairs stored as
 /// compressed rows (rowStart) walked by RowWalker in runs of pairs, and reference positions kept
 /// in single precision with a bound on their rounding that the staleness test adds.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 /// The tangential springs are stored for touching pairs only, in one array per particle block
 /// that the force pass rewrites in place, with a bit per candidate pair saying which hold one
-/// (core/src/pair_springs.hpp). These tests check that every contact keeps its own spring
+/// (core/engine/src/pair_springs.hpp). These tests check that every contact keeps its own spring
 /// through that bookkeeping, in beds of several blocks where contacts open and close in bulk.
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 /// docs/scenes.md against the validator (issue 9): every key a scene table accepts is documented
 /// in its section of the reference, and every key documented there is accepted, so the two
-/// cannot drift apart. The keys come from core/src/scene_schema.hpp, the lists the loader checks
-/// tables against.
+/// cannot drift apart. The keys come from core/scene/src/scene_schema.hpp, the lists the loader
+/// checks tables against.
 #include <gtest/gtest.h>
 
 #include <algorithm>

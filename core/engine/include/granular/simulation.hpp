@@ -111,7 +111,7 @@ struct ContactView {
   double overlap = 0;        ///< h > 0 [m]
 };
 
-struct SimulationState;  // private: core/src/simulation_state.hpp
+struct SimulationState;  // private: core/engine/src/simulation_state.hpp
 
 class Simulation {
  public:
@@ -197,7 +197,7 @@ class Simulation {
   std::uint64_t stateHash() const;
 
  private:
-  friend struct SimulationAccess;  // checkpoint I/O (core/src/checkpoint.cpp)
+  friend struct SimulationAccess;  // checkpoint I/O (core/engine/src/checkpoint.cpp)
   explicit Simulation(std::unique_ptr<SimulationState> state);
   std::unique_ptr<SimulationState> state_;
 };
