@@ -1,7 +1,7 @@
 #pragma once
 /// `granular calibrate-box`: settles a scene's first stage in square boxes of several sides and
-/// finds the side whose settled height is the target (design §3: the paper gives the frictionless
-/// settled height, 1.087 m, not the box).
+/// finds the side whose settled height is the target (docs/box-calibration.md: the paper gives the
+/// frictionless settled height, 1.087 m, not the box).
 #include <filesystem>
 #include <vector>
 

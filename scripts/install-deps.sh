@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages granular needs to build, test, benchmark and render (design §5),
+# Installs the Debian 12 packages granular needs to build, test, benchmark and render (docs/architecture.md §2),
 # and to run the sanitizer and fuzzing CI (scripts/ci-sanitizers.sh).
 #
 # Idempotent: asks dpkg-query which packages are missing and only then runs `apt-get update` once

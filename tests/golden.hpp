@@ -1,7 +1,7 @@
 #pragma once
-/// Image-diff testing against golden PNGs in assets/golden/ (design §6): per-channel tolerance
-/// and a maximum fraction of differing pixels. On failure the actual image and a diff image are
-/// written next to the build (build/.../golden-failures/) and the message says where.
+/// Image-diff testing against golden PNGs in assets/golden/ (docs/architecture.md §3): per-channel
+/// tolerance and a maximum fraction of differing pixels. On failure the actual image and a diff
+/// image are written next to the build (build/.../golden-failures/) and the message says where.
 ///
 /// Regenerating goldens is a deliberate act: run the tests with GRANULAR_UPDATE_GOLDEN=1 set,
 /// look at every changed PNG, and commit them with a reason. Without it a missing golden fails.

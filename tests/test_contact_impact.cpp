@@ -1,6 +1,7 @@
-/// Binary impacts against the closed forms of contact_theory (design §4): Hooke with damping and
-/// the no-pull clamp, Hertz without damping, sphere on a wall, and an oblique frictional impact
-/// against rigid-body impulse theory. Each at two time steps, for both integrators.
+/// Binary impacts against the closed forms of contact_theory (docs/validation.md §1): Hooke with
+/// damping and the no-pull clamp, Hertz without damping, sphere on a wall, and an oblique
+/// frictional impact against rigid-body impulse theory. Each at two time steps, for both
+/// integrators.
 #include <gtest/gtest.h>
 
 #include <cmath>

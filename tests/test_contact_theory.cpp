@@ -1,4 +1,4 @@
-/// The closed forms of contact_theory against the paper's derived numbers (design §2) and
+/// The closed forms of contact_theory against the paper's derived numbers (docs/physics.md §1) and
 /// against a direct numerical solution of the contact ODE.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-/// Energy balance (design §4): stored + dissipated - work put in is constant up to the
+/// Energy balance (docs/validation.md §3): stored + dissipated - work put in is constant up to the
 /// integrator's truncation error. Many-particle runs: 150 particles falling into a box.
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 /// The two-sphere impact probe (impact_probe.hpp) and the convergence of both integrators on it,
-/// against the closed forms of contact_theory (design §4): the orders expected from the force's
-/// smoothness at first touch, measured as the worst error over several touch phases.
+/// against the closed forms of contact_theory (docs/validation.md §1): the orders expected from the
+/// force's smoothness at first touch, measured as the worst error over several touch phases.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -100,7 +100,7 @@ TEST(ImpactProbe, FineStepReproducesClosedForms) {
 
 TEST(ImpactProbe, DampedHookeRestitutionConvergesAtFirstOrder) {
   // The dashpot force c·v0 switches on inside a step at first touch: a jump no scheme resolves
-  // better than O(Δt), whatever its formal order (design §4, Tuley et al. 2010).
+  // better than O(Δt), whatever its formal order (Tuley et al. 2010; docs/validation.md §2).
   for (Integrator i : kBoth) {
     const WorstErrors coarse = worstErrors(hookeSpec(), i, 50);
     const WorstErrors fine = worstErrors(hookeSpec(), i, 200);

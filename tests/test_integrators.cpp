@@ -1,6 +1,6 @@
 /// Convergence order of the integrators on a smooth oscillator, with and without a velocity-
 /// dependent (dashpot) force. With contacts the force is not smooth and the formal order is lost
-/// (design §4); that is measured in the impact tests.
+/// (docs/validation.md §2); that is measured in the impact tests.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
 #pragma once
-/// What Balevičius & Markauskas (2007) report, for the side-by-side report (design §3).
+/// What Balevičius & Markauskas (2007) report, for the side-by-side report (the paper's Sect. 3.3
+/// and Figs. 2-10).
 #include <array>
 
 namespace granular::app {

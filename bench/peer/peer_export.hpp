@@ -1,7 +1,8 @@
 #pragma once
 /// Export of the settled packing to the peer codes of bench/peer/ (LAMMPS and LIGGGHTS): the
 /// particles, the box and the contact law written in each code's own input language, as close to
-/// design §2 as that code can express it. bench/peer/README.md lists what remains different.
+/// docs/physics.md §1 as that code can express it. bench/peer/README.md lists what remains
+/// different.
 #include <filesystem>
 
 #include "granular/simulation.hpp"

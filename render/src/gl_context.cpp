@@ -15,7 +15,8 @@ namespace {
 constexpr int kBufferSize = 16;  // [px]
 
 /// glGetString fetched through OSMesaGetProcAddress: osmesa.h declares the compatibility
-/// prototypes too, but calling through the loader keeps every GL call on one path (design §5).
+/// prototypes too, but calling through the loader keeps every GL call on one path
+/// (docs/architecture.md §2).
 std::string glString(GLenum name) {
   using GetString = const GLubyte* (*)(GLenum);
   auto getString = reinterpret_cast<GetString>(OSMesaGetProcAddress("glGetString"));

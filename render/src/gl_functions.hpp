@@ -2,10 +2,10 @@
 /// The OpenGL 3.3 core entry points the renderer uses, fetched through a GlProcLoader.
 ///
 /// Why a loader of our own: libOSMesa exports the gl* symbols itself, and linking libGL as well
-/// binds them to libglvnd, where every call silently does nothing (design §5). Fetching each
-/// entry point through the context's get-proc-address function (OSMesaGetProcAddress here,
-/// glfwGetProcAddress in a window) works in both and links nothing. <GL/glcorearb.h> gives the
-/// function-pointer types without prototypes (GL_GLEXT_PROTOTYPES stays undefined).
+/// binds them to libglvnd, where every call silently does nothing (docs/architecture.md §2).
+/// Fetching each entry point through the context's get-proc-address function (OSMesaGetProcAddress
+/// here, glfwGetProcAddress in a window) works in both and links nothing. <GL/glcorearb.h> gives
+/// the function-pointer types without prototypes (GL_GLEXT_PROTOTYPES stays undefined).
 ///
 /// Do not include this next to <GL/gl.h> or <GL/osmesa.h>: the two headers clash.
 #include <GL/glcorearb.h>

@@ -1,5 +1,5 @@
 #pragma once
-/// The contact law of design §2 (Eqs. 3-5), evaluated for a chunk of contacts at once.
+/// The contact law of docs/physics.md §1 (Eqs. 3-5), evaluated for a chunk of contacts at once.
 ///
 /// Why chunks: the law is a chain of square roots and divisions (distance, normal, reduced
 /// radius and mass, the spring's rotation, k_t ∝ √(R h), the Coulomb scaling) with

@@ -205,7 +205,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   const std::size_t n = p.size();
   const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
 
-  // Refuse a step the contacts cannot resolve (design §2: report the contact duration).
+  // Refuse a step the contacts cannot resolve (physics.md §2.7: report the contact duration).
   s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
   requireStableStep(config.timeStep, s.contactScale, config.integrator);
   requireStableTangentialDamping(config.material, config.timeStep, config.integrator);

@@ -14,7 +14,7 @@ namespace granular {
 
 // ---- 1. Contact history -------------------------------------------------------------------
 
-/// Tangential spring of one contact, kept for the contact's life (design §2).
+/// Tangential spring of one contact, kept for the contact's life (physics.md §1).
 struct TangentialHistory {
   Vec3 stretch = Vec3::Zero();  ///< ξ = ∫ v_t dt, rotated into the current tangent plane [m]
   double stiffness = 0.0;       ///< k_t at the previous step, for the stiffness-work term [N/m]

@@ -1,7 +1,7 @@
 #pragma once
-/// The coarse-graining kernel of the local fields (design §4; Weinhart et al., Granular Matter
-/// 14:289, 2012): Lucy's polynomial, its gradient, and its integral along a contact's branch,
-/// with which the coarse-grained stress satisfies the momentum balance for any width.
+/// The coarse-graining kernel of the local fields (docs/physics.md §2.11; Weinhart et al., Granular
+/// Matter 14:289, 2012): Lucy's polynomial, its gradient, and its integral along a contact's
+/// branch, with which the coarse-grained stress satisfies the momentum balance for any width.
 #include "granular/vec3.hpp"
 
 namespace granular {
@@ -38,7 +38,7 @@ class LucyKernel {
   }
 
   /// ψ(r; a, b) = ∫₀¹ φ(r − a − s(b − a)) ds [1/m³]: the kernel averaged along the branch from
-  /// a to b (a contact's stress is spread along it, design §4). ψ = φ(r − a) when a = b.
+  /// a to b (a contact's stress is spread along it, physics.md §2.11). ψ = φ(r − a) when a = b.
   ///
   /// Method: with d = b − a, L = |d|, u the signed distance along the line from the point
   /// closest to r (at distance m from r), the integrand is K(1 − 6ρ² + 8ρ³ − 3ρ⁴) with

@@ -48,7 +48,7 @@ struct BoxStress {
   Vec3 eq2 = Vec3::Zero();        ///< σ11, σ22, σ33 of Eq. (2): opposite faces averaged [Pa]
   double centreOfMassHeight = 0;  ///< z_cm above the floor [m]
   /// The part of σ33(Eq. 1) - σ33(Eq. 2) a static frictionless bed has exactly,
-  /// (W/A)(1/2 - z_cm/H) (design §3); the rest of the difference is the remainder [Pa].
+  /// (W/A)(1/2 - z_cm/H) (docs/physics.md §2.12); the rest of the difference is the remainder [Pa].
   double sigma33CentreOfMassTerm = 0;
   /// The further part a static bed has when the side walls carry weight by friction: with S
   /// their upward force acting at mean height z_S, (S/A)(z_S/H - 1/2) = (M/H - S/2)/A, M the

@@ -1,6 +1,6 @@
 #pragma once
-/// Closed-form results for a single binary contact under the law of design §2. Used to choose and
-/// check the time step, and by the tests as the reference the simulation must reproduce.
+/// Closed-form results for a single binary contact under the law of docs/physics.md §1. Used to
+/// choose and check the time step, and by the tests as the reference the simulation must reproduce.
 #include "granular/material.hpp"
 
 namespace granular {

@@ -1,5 +1,5 @@
 #pragma once
-/// Material of the particles and the contact law constants derived from it (design §2).
+/// Material of the particles and the contact law constants derived from it (docs/physics.md §1).
 namespace granular {
 
 /// Normal elastic law: F = (2/3) E/(1-ν²) R^(2-α) h^α with α = 1 (Hooke) or α = 3/2 (Hertz).

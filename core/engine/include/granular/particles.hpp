@@ -1,5 +1,5 @@
 #pragma once
-/// The particles as a struct of arrays, addressed by integer index (design §1, §6).
+/// The particles as a struct of arrays, addressed by integer index (docs/architecture.md §3).
 #include <cstddef>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #pragma once
-/// The time-stepping engine: contact search, contact forces (design §2), integration, energy
-/// bookkeeping and wall reactions. One step runs the passes
+/// The time-stepping engine: contact search, contact forces (docs/physics.md §1), integration,
+/// energy bookkeeping and wall reactions. One step runs the passes
 ///   predict → move walls → update neighbour lists → contact forces → correct → measure.
 #include <cstdint>
 #include <functional>

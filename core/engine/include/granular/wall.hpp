@@ -1,5 +1,5 @@
 #pragma once
-/// Plane walls. A wall is a body of infinite radius and mass (design §2).
+/// Plane walls. A wall is a body of infinite radius and mass (docs/physics.md §2.3).
 #include <string>
 
 #include "granular/vec3.hpp"

@@ -1,7 +1,8 @@
 #pragma once
 /// A head-on impact of two equal spheres, run through the full engine and measured from the
 /// trajectory: the smallest problem on which an integrator's accuracy can be compared with the
-/// closed forms of contact_theory.hpp (design §4) and with a run at a much smaller step.
+/// closed forms of contact_theory.hpp (docs/validation.md §1) and with a run at a much smaller
+/// step.
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -41,7 +42,7 @@ ImpactMeasurement traceContact(Simulation& sim,
                                const std::function<double(const Simulation&)>& overlap,
                                double maxTime);
 
-/// The pair's reduced radius R/2 [m] and mass m/2 [kg] (two equal spheres, design §2).
+/// The pair's reduced radius R/2 [m] and mass m/2 [kg] (two equal spheres, docs/physics.md §2.3).
 double pairReducedRadius(const PairImpactSpec& spec);
 double pairReducedMass(const PairImpactSpec& spec);
 

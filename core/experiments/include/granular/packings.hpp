@@ -1,8 +1,9 @@
 #pragma once
-/// Scene builders shared by the tests, the app and the benchmarks (design §6: they live in one
-/// place, like Box2D's `shared/`). Each builder is deterministic from its seed on every platform:
-/// it draws raw 64-bit numbers from std::mt19937_64 (whose sequence the standard fixes) and maps
-/// them to [0, 1) itself, because std::uniform_real_distribution is implementation-defined.
+/// Scene builders shared by the tests, the app and the benchmarks (docs/architecture.md: they live
+/// in one place, like Box2D's `shared/`). Each builder is deterministic from its seed on every
+/// platform: it draws raw 64-bit numbers from std::mt19937_64 (whose sequence the standard fixes)
+/// and maps them to [0, 1) itself, because std::uniform_real_distribution is
+/// implementation-defined.
 #include <cstddef>
 #include <cstdint>
 
