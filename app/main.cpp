@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   // Arrays of 1 MiB and more get pages of their own, returned to the system when freed. By
   // default glibc raises this threshold to the size of the first such array freed and then keeps
   // the neighbour lists that every rebuild frees in its heap: a bed of 10⁵ spheres held ≈ 10 %
-  // more resident memory that way (bench/RESULTS.md, "Peak through a rebuild").
+  // more resident memory that way (bench/CHANGELOG.md, 2026-11-25, "Peak through a rebuild").
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
   granular::app::CommandLine commandLine;
   return commandLine.run(argc, argv);
