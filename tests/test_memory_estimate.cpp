@@ -38,10 +38,12 @@ Scene touchingBed(int side, Integrator integrator, double friction) {
 
 }  // namespace
 
-// The rebuild needs the new candidate list beside the old one for a moment (bench/RESULTS.md:
-// ≈ 75 B a particle at most); the estimate must hold the arrays and that.
+// The rebuild needs the new candidate list beside the old one for a moment (bench/CHANGELOG.md,
+// "Peak through a rebuild": ≈ 75 B a particle at most); the estimate must hold the arrays and
+// that, and each of its terms (friction, Gear5) must cover what that choice adds to the arrays.
 TEST(MemoryEstimate, CoversTheArraysOfEveryModelWithRoomForARebuild) {
   const int side = 16;
+  double arraysOf[2][2] = {}, estimateOf[2][2] = {};  // [Gear5][friction]
   for (Integrator integrator : {Integrator::VelocityVerlet, Integrator::Gear5}) {
     for (double friction : {0.0, 0.5}) {
       const Scene scene = touchingBed(side, integrator, friction);
@@ -55,7 +57,18 @@ TEST(MemoryEstimate, CoversTheArraysOfEveryModelWithRoomForARebuild) {
           << e.model << ": arrays " << arrays << " B a particle";
       // Not so loose that it refuses what fits: within 2× of the arrays.
       EXPECT_LT(e.bytesPerParticle, 2.0 * arrays) << e.model;
+      const int g = integrator == Integrator::Gear5, f = friction > 0;
+      arraysOf[g][f] = arrays;
+      estimateOf[g][f] = e.bytesPerParticle;
     }
+  }
+  for (int g : {0, 1}) {
+    EXPECT_GE(estimateOf[g][1] - estimateOf[g][0], arraysOf[g][1] - arraysOf[g][0])
+        << "what friction adds, " << (g ? "Gear5" : "Verlet");
+  }
+  for (int f : {0, 1}) {
+    EXPECT_GE(estimateOf[1][f] - estimateOf[0][f], arraysOf[1][f] - arraysOf[0][f])
+        << "what Gear5 adds, " << (f ? "frictional" : "frictionless");
   }
 }
 
