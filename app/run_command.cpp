@@ -37,19 +37,16 @@ namespace {
 /// <kind>_<stage>_<step>.csv: named by the step the state was written at (a snapshot is taken
 /// at the first step at or after its time); the stage is in the name because snapshot times are
 /// on each stage's own clock.
-std::string safeName(const std::string& stage) {
-  return fileSafeName(stage);
-}
-
 std::filesystem::path snapshotPath(const std::filesystem::path& outDir, const char* kind,
                                    const std::string& stage, std::uint64_t step) {
-  return outDir / (std::string(kind) + "_" + safeName(stage) + "_" + std::to_string(step) + ".csv");
+  return outDir /
+         (std::string(kind) + "_" + fileSafeName(stage) + "_" + std::to_string(step) + ".csv");
 }
 
 /// paraview/<stage>_<step>_<kind>.vtp, relative to the run folder (the .pvd files refer to it so).
 std::filesystem::path paraviewPath(const std::string& stage, std::uint64_t step, const char* kind) {
   return std::filesystem::path("paraview") /
-         (safeName(stage) + "_" + std::to_string(step) + "_" + kind + ".vtp");
+         (fileSafeName(stage) + "_" + std::to_string(step) + "_" + kind + ".vtp");
 }
 
 constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
@@ -59,7 +56,7 @@ constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
 std::vector<std::uint64_t> paraviewSteps(const std::filesystem::path& outDir,
                                          const std::string& stage, const char* kind,
                                          std::uint64_t first, std::uint64_t last) {
-  const std::string prefix = safeName(stage) + "_", suffix = std::string("_") + kind + ".vtp";
+  const std::string prefix = fileSafeName(stage) + "_", suffix = std::string("_") + kind + ".vtp";
   std::vector<std::uint64_t> steps;
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(outDir / "paraview", error)) {

@@ -330,21 +330,25 @@ InputFile::~InputFile() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-std::vector<char> InputFile::readAll(std::uint64_t maxBytes) {
-  if (size_ > maxBytes) {
-    throw IoError(file_.string() + ": cannot read " + what_ + ": " + std::to_string(size_) +
-                  " bytes, more than the " + std::to_string(maxBytes) + " it may have");
-  }
-  std::vector<char> bytes(static_cast<std::size_t>(size_));
+std::string InputFile::read(std::uint64_t offset, std::uint64_t bytes) {
+  std::string data(static_cast<std::size_t>(bytes), '\0');
   std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::pread(fd_, bytes.data() + done, bytes.size() - done, off_t(done));
+  while (done < data.size()) {
+    const ssize_t n = ::pread(fd_, data.data() + done, data.size() - done, off_t(offset + done));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) throw IoError(file_.string() + ": cannot read " + what_ + ": " + reason(errno));
     if (n == 0) throw IoError(file_.string() + ": " + what_ + " shrank while being read");
     done += std::size_t(n);
   }
-  return bytes;
+  return data;
+}
+
+std::string InputFile::readAll(std::uint64_t maxBytes) {
+  if (size_ > maxBytes) {
+    throw IoError(file_.string() + ": cannot read " + what_ + ": " + std::to_string(size_) +
+                  " bytes, more than the " + std::to_string(maxBytes) + " it may have");
+  }
+  return read(0, size_);
 }
 
 // 6. Available memory -----------------------------------------------------------------------------

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <optional>
 #include <string>
 #include <type_traits>
@@ -222,15 +220,14 @@ constexpr std::size_t kFrameBytes =
 /// The whole file, read only once its size is what its header announces, so that a corrupted
 /// length or a file that is not a checkpoint (a folder, /dev/zero, a huge file) never makes it
 /// allocate more than the checkpoint it claims to be.
-std::vector<char> readAll(const std::filesystem::path& file) {
+std::string readAll(const std::filesystem::path& file) {
   InputFile in(file, "checkpoint");
   const std::uint64_t size = in.size();
   if (size >= kFrameBytes + sizeof(std::uint64_t)) {
     std::uint64_t payloadBytes = 0;
-    std::ifstream header(file, std::ios::binary);
-    header.seekg(std::streamoff(kFrameBytes - sizeof payloadBytes));
-    header.read(reinterpret_cast<char*>(&payloadBytes), sizeof payloadBytes);
-    if (header && size - kFrameBytes - sizeof(std::uint64_t) != payloadBytes) {
+    const std::string field = in.read(kFrameBytes - sizeof payloadBytes, sizeof payloadBytes);
+    std::memcpy(&payloadBytes, field.data(), sizeof payloadBytes);
+    if (size - kFrameBytes - sizeof(std::uint64_t) != payloadBytes) {
       throw CheckpointError(
           file.string() + ": truncated or padded checkpoint: " + std::to_string(size) +
           " bytes, the header announces a " + std::to_string(payloadBytes) + "-byte payload in a " +
@@ -409,7 +406,7 @@ CheckpointContents parseCheckpoint(std::span<const char> bytes, const std::strin
 
 CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
                                           std::uint64_t expectedFingerprint) {
-  const std::vector<char> bytes = readAll(file);
+  const std::string bytes = readAll(file);
   return parseCheckpoint(bytes, file.string(), expectedFingerprint);
 }
 
@@ -419,7 +416,7 @@ Simulation readCheckpoint(const std::filesystem::path& file, std::uint64_t expec
 
 CheckpointContents readCheckpointWithData(const std::filesystem::path& file,
                                           const SceneFingerprint& expected) {
-  const std::vector<char> bytes = readAll(file);
+  const std::string bytes = readAll(file);
   return parseCheckpoint(bytes, file.string(), expected);
 }
 
@@ -429,7 +426,7 @@ Simulation readCheckpoint(const std::filesystem::path& file, const SceneFingerpr
 
 std::uint64_t fingerprintFile(const std::filesystem::path& file) {
   InputFile in(file, "file");
-  const std::vector<char> bytes = in.readAll(in.size());
+  const std::string bytes = in.readAll(in.size());
   return fnv1a(bytes.data(), bytes.size());
 }
 

@@ -208,8 +208,7 @@ ParticleCsv readParticleCsv(const std::filesystem::path& path) {
   try {
     InputFile in(path, "particle file");
     const std::uint64_t available = availableMemoryBytes();
-    const std::vector<char> raw = in.readAll(available > 0 ? available / 2 : in.size());
-    bytes.assign(raw.begin(), raw.end());
+    bytes = in.readAll(available > 0 ? available / 2 : in.size());
   } catch (const IoError& e) {
     throw ConfigError(e.what());
   }

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <memory>
 #include <ostream>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -83,8 +84,10 @@ class InputFile {
 
   /// Size when opened [B].
   std::uint64_t size() const { return size_; }
+  /// `bytes` bytes from `offset` (IoError where a read fails or the file ends first).
+  std::string read(std::uint64_t offset, std::uint64_t bytes);
   /// The whole file; IoError if it holds more than `maxBytes` or a read fails.
-  std::vector<char> readAll(std::uint64_t maxBytes);
+  std::string readAll(std::uint64_t maxBytes);
 
  private:
   std::filesystem::path file_;
