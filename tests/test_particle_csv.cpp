@@ -4,8 +4,6 @@
 /// duplicate, missing names) are in the corpus, tests/scenes/malformed/csv-header-*.toml.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,29 +12,17 @@
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "particle_csv.hpp"
+#include "temp_folder.hpp"
 
 namespace granular {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder per test, removed afterwards.
-class ParticleCsvFile : public ::testing::Test {
+/// A fresh folder per test (temp_folder.hpp).
+class ParticleCsvFile : public testing::TempFolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("granular_particle_csv_") + info->name() + "_" +
-                                        std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path path = dir_ / name;
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-  }
+  ParticleCsvFile() : TempFolderTest("granular_particle_csv") {}
 
   /// A scene of the box [0,1]×[0,1]×[0,2] with friction `mu` whose particles come from `csv`.
   fs::path scene(const std::string& csv, double mu = 0.0) const {
@@ -47,8 +33,6 @@ class ParticleCsvFile : public ::testing::Test {
                                    "[[particles]]\ntype = \"csv\"\nfile = \"particles.csv\"\n"
                                    "[[stages]]\nmax_time = 1.0\n");
   }
-
-  fs::path dir_;
 };
 
 TEST_F(ParticleCsvFile, ColumnsAreReadByTheirNamesInAnyOrder) {

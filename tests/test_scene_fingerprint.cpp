@@ -4,8 +4,6 @@
 /// changed.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +14,7 @@
 #include "fnv1a.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/scene_fingerprint.hpp"
+#include "temp_folder.hpp"
 
 namespace granular {
 namespace {
@@ -59,21 +58,12 @@ name = "press"
 max_time = 0.02
 )";
 
-class SceneFingerprintTest : public ::testing::Test {
+class SceneFingerprintTest : public testing::TempFolderTest {
  protected:
+  SceneFingerprintTest() : TempFolderTest("granular_fingerprint") {}
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           (std::string("granular_fingerprint_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempFolderTest::SetUp();
     write("particles.csv", gridCsv());
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-    return dir_ / name;
   }
   /// The fingerprint of the scene `toml` (with the particle file as it is now).
   SceneFingerprint fingerprintOf(const std::string& toml) const {
@@ -97,8 +87,6 @@ class SceneFingerprintTest : public ::testing::Test {
     ADD_FAILURE() << "accepted";
     return {};
   }
-
-  fs::path dir_;
 };
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {

@@ -2,8 +2,6 @@
 /// structs' defaults, and malformed scenes throw SceneError naming the file, line, key and value.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -15,29 +13,17 @@
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
+#include "temp_folder.hpp"
 
 namespace granular {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder per test, removed afterwards.
-class SceneLoader : public ::testing::Test {
+/// A fresh folder per test (temp_folder.hpp).
+class SceneLoader : public testing::TempFolderTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("granular_scene_loader_") + info->name() + "_" +
-                                        std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path path = dir_ / name;
-    std::ofstream(path) << text;
-    return path;
-  }
+  SceneLoader() : TempFolderTest("granular_scene_loader") {}
 
   /// The SceneError message of loading `text`, or a failure if it loads.
   std::string errorOf(const std::string& text) const {
@@ -50,8 +36,6 @@ class SceneLoader : public ::testing::Test {
     ADD_FAILURE() << "no SceneError for:\n" << text;
     return {};
   }
-
-  fs::path dir_;
 };
 
 /// The smallest valid scene: every required key, nothing else.
