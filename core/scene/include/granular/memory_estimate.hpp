@@ -16,9 +16,10 @@ struct MemoryEstimate {
 };
 
 /// Bytes per particle at the peak, measured on settled beds of 10⁵–10⁶ spheres
-/// (bench/CHANGELOG.md, 2026-11-25, "Peak through a rebuild"; bench/RESULTS.md, "The engine now"), rounded up: a frictionless velocity-Verlet bed
-/// 310 B; friction (springs, spins, torques) adds 90 B; Gear5 keeps four more derivatives of
-/// each integrated vector, 96 B for the translations and 96 B for the rotations.
+/// (bench/CHANGELOG.md, 2026-11-25, "Peak through a rebuild"; bench/RESULTS.md, "The engine now"),
+/// rounded up: a frictionless velocity-Verlet bed 310 B; friction (springs, spins, torques) adds 90
+/// B; Gear5 keeps four more derivatives of each integrated vector, 96 B for the translations and 96
+/// B for the rotations.
 MemoryEstimate estimateMemory(const Scene& scene);
 
 /// ConfigError naming the scene, the estimate and the memory available when the estimate
