@@ -13,6 +13,7 @@
 
 #include "fnv1a.hpp"
 #include "granular/checkpoint.hpp"
+#include "granular/contact_model.hpp"
 #include "granular/scene_fingerprint.hpp"
 #include "temp_folder.hpp"
 
@@ -169,8 +170,11 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
     end += 8 + length + 8;
   }
   bytes.erase(bytes.begin() + std::ptrdiff_t(header), bytes.begin() + std::ptrdiff_t(end));
-  // And the no-pull flag, the payload's last byte (before the 8-byte checksum), also new in 4.
-  bytes.erase(bytes.end() - 9);
+  // And the material's (key, value) pairs, new in 5, then the no-pull flag before them, new in
+  // 4: the payload's last bytes (before the 8-byte checksum).
+  std::size_t material = 8;
+  for (const auto& [key, value] : materialValues(Material{})) material += 8 + key.size() + 8;
+  bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);
   const std::uint64_t payload = bytes.size() - header - 8;

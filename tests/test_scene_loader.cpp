@@ -361,7 +361,7 @@ TEST_F(SceneLoader, MalformedScenesNameTheKey) {
        {"material.youngs_modulus = 3e+14", "(0, 1e+12]"}},
       {"nan literal",
        kMinimal + "[material]\ndensity = nan\n",
-       {"material.density = nan", "must be finite and > 0"}},
+       {"material.density = nan", "must be finite and in (0, 1e+12]"}},
       {"inf literal",
        replaced(kMinimal, "time_step = 1e-4", "time_step = inf"),
        {"simulation.time_step = inf", "finite"}},

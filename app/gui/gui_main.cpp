@@ -154,14 +154,30 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   ImGui::Separator();
   ImGui::Text("Material (applied on Enter)");
   bool edited = false;
-  auto field = [&](const char* label, double* v, const char* format) {
-    ImGui::InputDouble(label, v, 0.0, 0.0, format);
-    edited |= ImGui::IsItemDeactivatedAfterEdit();
-  };
-  field("mu [-]", &ui.material.friction, "%.3f");
-  field("gamma_n [1/s]", &ui.material.normalDamping, "%.1f");
-  field("gamma_t [1/s]", &ui.material.tangentialDamping, "%.1f");
-  field("E [Pa]", &ui.material.youngModulus, "%.4g");
+  // One field per parameter the contact model declares (the bodies' density is fixed by the
+  // particles' masses, so it is not offered).
+  for (const ParameterSpec& p : materialParameters()) {
+    if (p.term == Body::name) continue;
+    const std::string label = std::string(p.key) + " " + std::string(p.symbol) +
+                              (p.unit == "-" ? std::string() : " [" + std::string(p.unit) + "]");
+    double value = p.get(ui.material);
+    if (p.kind == ParameterKind::Number) {
+      ImGui::InputDouble(label.c_str(), &value, 0.0, 0.0, "%.4g");
+      edited |= ImGui::IsItemDeactivatedAfterEdit();
+    } else if (p.kind == ParameterKind::Flag) {
+      bool on = value != 0.0;
+      edited |= ImGui::Checkbox(label.c_str(), &on);
+      value = on ? 1.0 : 0.0;
+    } else {
+      int at = static_cast<int>(value);
+      std::vector<const char*> names;
+      std::vector<std::string> storage(p.names.begin(), p.names.end());
+      for (const std::string& n : storage) names.push_back(n.c_str());
+      edited |= ImGui::Combo(label.c_str(), &at, names.data(), int(names.size()));
+      value = at;
+    }
+    p.set(ui.material, value);
+  }
   if (edited) runner.setMaterial(ui.material);
   ImGui::InputDouble("top wall v [m/s]", &ui.topWallVelocity, 0.0, 0.0, "%.4f");
   if (ImGui::IsItemDeactivatedAfterEdit()) runner.setTopWallVelocity(ui.topWallVelocity);
@@ -386,6 +402,10 @@ class ScriptPlayer {
       if (c.verb == "gamma-n") m.normalDamping = x;
       if (c.verb == "gamma-t") m.tangentialDamping = x;
       if (c.verb == "youngs-modulus") m.youngModulus = x;
+      if (c.verb == "material") {
+        const MaterialSetting setting = materialSetting(c.argument);
+        setting.parameter->set(m, setting.value);
+      }
       runner.setMaterial(m);
     }
     runner.flush();  // the next frame shows the command's effect

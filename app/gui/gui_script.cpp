@@ -3,6 +3,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "granular/contact_model.hpp"
+
 namespace granular::gui {
 
 namespace {
@@ -27,6 +29,7 @@ constexpr Verb kVerbs[] = {
     {"gamma-n", Argument::Number, "X"},
     {"gamma-t", Argument::Number, "X"},
     {"youngs-modulus", Argument::Number, "X"},
+    {"material", Argument::Value, "KEY=X"},
     {"wall-velocity", Argument::Number, "X"},
     {"colour", Argument::Value, "force|speed|stress|none"},
     {"frames", Argument::Number, "N"},
@@ -47,6 +50,37 @@ const Verb* findVerb(const std::string& name) {
 }
 
 }  // namespace
+
+MaterialSetting materialSetting(const std::string& argument) {
+  const std::size_t equals = argument.find('=');
+  const std::string key = argument.substr(0, equals);
+  const ParameterSpec* spec = findParameter(key);
+  std::string keys;
+  for (const ParameterSpec& p : materialParameters()) {
+    if (p.kind != ParameterKind::Number) continue;
+    keys += (keys.empty() ? "" : ", ") + std::string(p.key);
+  }
+  if (equals == std::string::npos || !spec || spec->kind != ParameterKind::Number) {
+    throw std::invalid_argument("script: material '" + argument +
+                                "': expected KEY=X with KEY one of " + keys);
+  }
+  const std::string text = argument.substr(equals + 1);
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (text.empty() || used != text.size()) {
+    throw std::invalid_argument("script: material " + key + " needs a number, got '" + text + "'");
+  }
+  if (!spec->accepts(value)) {
+    throw std::invalid_argument("script: material " + key + " = " + text + ": " +
+                                spec->requirement());
+  }
+  return {spec, value};
+}
 
 std::vector<std::string> scriptVerbs() {
   std::vector<std::string> names;
@@ -105,6 +139,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text) {
         if (c.argument.empty()) {
           throw std::invalid_argument("script: '" + c.verb + "' needs a value");
         }
+        if (c.verb == "material") materialSetting(c.argument);  // throws if it is not one
         if (c.verb == "colour" && c.argument != "force" && c.argument != "speed" &&
             c.argument != "stress" && c.argument != "none") {
           throw std::invalid_argument("script: colour '" + c.argument +

@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "fnv1a.hpp"
+#include "granular/contact_model.hpp"
 #include "granular/error.hpp"
 #include "granular/output_file.hpp"
+#include "number_format.hpp"
 #include "pair_springs.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
@@ -38,6 +40,19 @@ struct StoredPart {
 template <class Io>
 void fields(Io& io, StoredPart& p) {
   io(p.key), io(p.hash);
+}
+
+/// A material parameter as the file holds it (format 5): by key, so that a parameter this build
+/// declares and the file lacks keeps its default, and one the file has and this build lacks is
+/// an error that names it.
+struct StoredParameter {
+  std::string key;
+  double value = 0;
+};
+
+template <class Io>
+void fields(Io& io, StoredParameter& p) {
+  io(p.key), io(p.value);
 }
 
 template <class Io>
@@ -268,6 +283,9 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   w(data);
   bool noPull = state.config.material.noPull;  // version 4
   w(noPull);
+  std::vector<StoredParameter> material;  // version 5: every declared parameter
+  for (auto& [key, value] : materialValues(state.config.material)) material.push_back({key, value});
+  w(material);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -363,6 +381,20 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
   std::string appData;
   if (version >= 3) r(appData);
   if (version >= 4) r(state->config.material.noPull);
+  if (version >= 5) {
+    std::vector<StoredParameter> material;
+    r(material);
+    for (const StoredParameter& p : material) {
+      const ParameterSpec* spec = findParameter(p.key);
+      if (!spec) {
+        throw CheckpointError(name + ": the checkpoint's material has the parameter '" +
+                              printable(p.key) +
+                              "', which this build's contact model does not declare (written by "
+                              "a build with another contact term?)");
+      }
+      spec->set(state->config.material, p.value);
+    }
+  }
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
   state->neighbours.plan.valid = false;  // derived data: built by the next force pass

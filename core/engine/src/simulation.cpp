@@ -42,21 +42,6 @@ std::string str(double x) {
   throw NumericalError(msg.str());
 }
 
-void validateMaterial(const Material& m) {
-  require(std::isfinite(m.youngModulus) && m.youngModulus > 0,
-          "material.youngs_modulus = " + str(m.youngModulus) + " Pa: must be > 0");
-  require(m.poissonRatio >= 0 && m.poissonRatio < 0.5,
-          "material.poisson_ratio = " + str(m.poissonRatio) + ": must be in [0, 0.5)");
-  require(std::isfinite(m.shearModulus) && m.shearModulus > 0,
-          "material.shear_modulus = " + str(m.shearModulus) + " Pa: must be > 0");
-  require(std::isfinite(m.friction) && m.friction >= 0,
-          "material.friction = " + str(m.friction) + ": must be >= 0");
-  require(std::isfinite(m.normalDamping) && m.normalDamping >= 0,
-          "material.normal_damping = " + str(m.normalDamping) + " 1/s: must be >= 0");
-  require(std::isfinite(m.tangentialDamping) && m.tangentialDamping >= 0,
-          "material.tangential_damping = " + str(m.tangentialDamping) + " 1/s: must be >= 0");
-}
-
 void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
   validateMaterial(cfg.material);
   require(std::isfinite(cfg.timeStep) && cfg.timeStep > 0,
@@ -441,11 +426,7 @@ void Simulation::setTimeStep(double dt) {
 void Simulation::setMaterial(const Material& material) {
   SimulationState& s = *state_;
   const Material& now = s.config.material;
-  if (material.youngModulus == now.youngModulus && material.poissonRatio == now.poissonRatio &&
-      material.shearModulus == now.shearModulus && material.density == now.density &&
-      material.friction == now.friction && material.normalDamping == now.normalDamping &&
-      material.tangentialDamping == now.tangentialDamping && material.normalLaw == now.normalLaw &&
-      material.noPull == now.noPull) {
+  if (sameMaterial(material, now)) {
     return;  // nothing changes, not even the bits
   }
   validateMaterial(material);

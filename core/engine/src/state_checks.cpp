@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "granular/checkpoint.hpp"
+#include "granular/contact_model.hpp"
+#include "granular/error.hpp"
 
 namespace granular {
 
@@ -60,16 +62,11 @@ class Checker {
 };
 
 void checkConfig(const Checker& c, const SimulationState& s) {
-  const Material& m = s.config.material;
-  c.positive(m.youngModulus, "Young's modulus");
-  c.require(m.poissonRatio >= 0 && m.poissonRatio < 0.5, "Poisson's ratio must be in [0, 0.5)");
-  c.positive(m.shearModulus, "shear modulus");
-  c.positive(m.density, "density");
-  c.nonNegative(m.friction, "friction");
-  c.nonNegative(m.normalDamping, "normal damping");
-  c.nonNegative(m.tangentialDamping, "tangential damping");
-  c.require(m.normalLaw == NormalLaw::Hooke || m.normalLaw == NormalLaw::Hertz,
-            "unknown normal law " + std::to_string(int(m.normalLaw)));
+  try {  // the declarations' rules, the same as for a scene
+    validateMaterial(s.config.material);
+  } catch (const ConfigError& e) {
+    c.fail(e.what());
+  }
   const SimulationConfig& cfg = s.config;
   c.finite(cfg.gravity, "gravity");
   c.require(cfg.integrator == Integrator::Gear5 || cfg.integrator == Integrator::VelocityVerlet,
@@ -78,7 +75,8 @@ void checkConfig(const Checker& c, const SimulationState& s) {
   c.nonNegative(cfg.skin, "skin");
   c.positive(cfg.impactSpeed, "impact speed");
   c.finite(s.timeOrigin, "clock origin");
-  c.require(s.frictional == m.hasFriction(), "friction flag disagrees with the friction");
+  c.require(s.frictional == s.config.material.hasFriction(),
+            "friction flag disagrees with the friction");
   c.positive(s.contactScale.duration, "contact duration");
   c.positive(s.contactScale.radius, "contact radius");
 }

@@ -1,13 +1,18 @@
 /// fingerprintScene (scene_fingerprint.hpp). Every struct of the scene is taken apart with a
 /// structured binding that names all its members: a member added to one of them stops this file
-/// from compiling until it is either fingerprinted or said not to change the run.
+/// from compiling until it is either fingerprinted or said not to change the run. The material
+/// is hashed from the contact model's table (granular/contact_model.hpp), so every declared
+/// parameter is in it.
 #include "granular/scene_fingerprint.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <type_traits>
 
 #include "fnv1a.hpp"
+#include "granular/contact_model.hpp"
 
 namespace granular {
 
@@ -49,12 +54,35 @@ class Canonical {
   std::string bytes_;
 };
 
+/// The material as files before the contact model's table hashed it, so that their checkpoints
+/// still match: these nine in this order, each as its type (a law as an enum, a flag as a byte).
+constexpr std::string_view kFirstParameters[] = {
+    "youngs_modulus", "poisson_ratio",      "shear_modulus", "density", "friction",
+    "normal_damping", "tangential_damping", "normal_law",    "no_pull"};
+
 std::uint64_t materialHash(const Material& m) {
-  const auto& [youngModulus, poissonRatio, shearModulus, density, friction, normalDamping,
-               tangentialDamping, normalLaw, noPull] = m;
   Canonical c;
-  c << youngModulus << poissonRatio << shearModulus << density << friction << normalDamping
-    << tangentialDamping << normalLaw << noPull;
+  for (std::string_view key : kFirstParameters) {
+    const ParameterSpec& p = *findParameter(key);
+    const double value = p.get(m);
+    if (p.kind == ParameterKind::Choice) {
+      c << static_cast<int>(value);  // as the enum was: its value as 64 bits
+    } else if (p.kind == ParameterKind::Flag) {
+      c << (value != 0.0);
+    } else {
+      c << value;
+    }
+  }
+  // Every other declared parameter by key and value, where it differs from its default: a term
+  // added with its default (off) leaves every existing scene's fingerprint as it was.
+  for (const ParameterSpec& p : materialParameters()) {
+    if (std::find(std::begin(kFirstParameters), std::end(kFirstParameters), p.key) !=
+        std::end(kFirstParameters)) {
+      continue;
+    }
+    const double value = p.get(m);
+    if (std::memcmp(&value, &p.defaultValue, sizeof value) != 0) c << std::string(p.key) << value;
+  }
   return c.hash();
 }
 

@@ -76,6 +76,7 @@
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "grid_sampling.hpp"
+#include "material_reader.hpp"
 #include "particle_csv.hpp"
 #include "scene_schema.hpp"
 #include "toml_table_reader.hpp"
@@ -84,11 +85,9 @@ namespace granular {
 
 namespace {
 
-constexpr double kMaxModulus = 1e12;  // [Pa]; catches a unit slip (MPa vs Pa ×1e6)
 constexpr std::int64_t kMaxCellsPerAxis = 100000;
 constexpr std::int64_t kMaxParticles = 100000000;
 constexpr std::int64_t kMaxInt = std::numeric_limits<std::int64_t>::max();
-constexpr double kMaxDensity = 1e12;  // [kg/m³]; far above any material, even density-scaled
 /// A stage longer than this many steps is a unit slip or a "forever"; it would never end.
 constexpr double kMaxStageSteps = 1e12;
 /// A scene file is a few hundred bytes; anything this large is the wrong file.
@@ -142,27 +141,38 @@ std::string boxCrossing(const Vec3& centre, double radius, const BoxSpec& box) {
 
 // 1. Material -------------------------------------------------------------------------------------
 
-Material readMaterial(const TomlTableReader& root, const std::string& file) {
+}  // namespace
+
+Material readMaterial(const TomlTableReader& root, const std::string& file,
+                      std::span<const ParameterSpec> table) {
   Material m;
-  const toml::table* table = root.subTable("material");
-  if (!table) return m;
-  const TomlTableReader r(*table, "material", file);
-  r.expectOnly(scene_schema::list(scene_schema::kMaterial));
-  m.youngModulus = r.number("youngs_modulus", m.youngModulus, Range::aboveUpTo(0, kMaxModulus));
-  m.poissonRatio = r.number("poisson_ratio", m.poissonRatio, Range::halfOpen(0, 0.5));
-  m.shearModulus = r.number("shear_modulus", m.shearModulus, Range::aboveUpTo(0, kMaxModulus));
-  m.density = r.number("density", m.density, Range::above(0));
-  if (m.density > kMaxDensity) {
-    r.fail("density", "must be at most " + formatNumber(kMaxDensity) + " kg/m³ (a unit slip?)");
+  const toml::table* section = root.subTable("material");
+  if (!section) return m;
+  const TomlTableReader r(*section, "material", file);
+  std::vector<std::string_view> keys;
+  for (const ParameterSpec& p : table) keys.push_back(p.key);
+  r.expectOnly(keys);
+  for (const ParameterSpec& p : table) {
+    switch (p.kind) {
+      case ParameterKind::Number:
+        p.set(m, r.number(p.key, p.get(m), p.range));
+        break;
+      case ParameterKind::Choice: {
+        const std::size_t now = static_cast<std::size_t>(p.get(m));
+        const std::string name = r.choice(
+            p.key, p.names[now], std::vector<std::string_view>(p.names.begin(), p.names.end()));
+        p.set(m, double(std::find(p.names.begin(), p.names.end(), name) - p.names.begin()));
+        break;
+      }
+      case ParameterKind::Flag:
+        p.set(m, r.boolean(p.key, p.get(m) != 0.0) ? 1.0 : 0.0);
+        break;
+    }
   }
-  m.friction = r.number("friction", m.friction, Range::closed(0, 10));
-  m.normalDamping = r.number("normal_damping", m.normalDamping, Range::atLeast(0));
-  m.tangentialDamping = r.number("tangential_damping", m.tangentialDamping, Range::atLeast(0));
-  const std::string law = r.choice("normal_law", "hooke", {"hooke", "hertz"});
-  m.normalLaw = law == "hertz" ? NormalLaw::Hertz : NormalLaw::Hooke;
-  m.noPull = r.boolean("no_pull", m.noPull);
   return m;
 }
+
+namespace {
 
 // 2. Simulation -----------------------------------------------------------------------------------
 
@@ -497,15 +507,16 @@ TomlTableReader tableOrRoot(const TomlTableReader& root, std::string_view key,
 
 /// The engine's stability rule (Simulation refuses the same step), checked with the density the
 /// builder will use, so that the message can name the key. Also refuses a total_mass that would
-/// give a density beyond kMaxDensity, and a damping that over-damps the stiffest contact.
+/// give a density beyond the declared bound, and a damping that over-damps the stiffest contact.
 void checkTimeStep(const TomlTableReader& root, const std::string& file, const Scene& scene,
                    const MotionBound& bound) {
   Material material = scene.simulation.material;
   if (scene.totalMass) {
     material.density = *scene.totalMass / bound.volume;
-    if (!(material.density <= kMaxDensity)) {
+    const double maxDensity = findParameter("density")->range.hi;  // the declared bound
+    if (!(material.density <= maxDensity)) {
       root.fail("total_mass", "gives the particles a density of " + formatNumber(material.density) +
-                                  " kg/m³; must be at most " + formatNumber(kMaxDensity));
+                                  " kg/m³; must be at most " + formatNumber(maxDensity));
     }
   }
   ContactScale scale;

@@ -1,7 +1,8 @@
 #pragma once
 /// The keys each table of a scene file accepts. The loader (scene_loader.cpp) checks every table
 /// against these lists, and a test checks docs/scenes.md against them in both directions, so
-/// the documentation cannot drift from the validator.
+/// the documentation cannot drift from the validator. [material] is not here: its keys are the
+/// contact model's declared parameters (granular/contact_model.hpp, materialParameters()).
 #include <span>
 #include <string_view>
 #include <vector>
@@ -10,9 +11,6 @@ namespace granular::scene_schema {
 
 inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
                                                  "total_mass", "stages",     "output"};
-inline constexpr std::string_view kMaterial[] = {
-    "youngs_modulus", "poisson_ratio",      "shear_modulus", "density", "friction",
-    "normal_damping", "tangential_damping", "normal_law",    "no_pull"};
 inline constexpr std::string_view kSimulation[] = {"gravity", "integrator", "time_step", "skin",
                                                    "impact_speed"};
 inline constexpr std::string_view kBox[] = {"min", "max", "walls"};
@@ -35,7 +33,6 @@ struct Table {
   std::span<const std::string_view> keys;
 };
 inline constexpr Table kTables[] = {{"", kTopLevel},
-                                    {"material", kMaterial},
                                     {"simulation", kSimulation},
                                     {"box", kBox},
                                     {"particles.grid", kGridParticles},

@@ -74,24 +74,6 @@ std::string locationPrefix(const std::string& file, const toml::source_region& w
   return out.str();
 }
 
-bool Range::contains(double x) const {
-  const bool aboveLo = loInclusive ? x >= lo : x > lo;
-  const bool belowHi = hiInclusive ? x <= hi : x < hi;
-  return aboveLo && belowHi;
-}
-
-std::string Range::describe() const {
-  const bool hasLo = std::isfinite(lo);
-  const bool hasHi = std::isfinite(hi);
-  if (hasLo && hasHi) {
-    return "must be in " + std::string(loInclusive ? "[" : "(") + formatNumber(lo) + ", " +
-           formatNumber(hi) + (hiInclusive ? "]" : ")");
-  }
-  if (hasLo) return std::string(loInclusive ? "must be >= " : "must be > ") + formatNumber(lo);
-  if (hasHi) return std::string(hiInclusive ? "must be <= " : "must be < ") + formatNumber(hi);
-  return "must be a finite number";
-}
-
 // 2. Edit distance
 // ---------------------------------------------------------------------------------
 

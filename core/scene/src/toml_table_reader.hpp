@@ -17,33 +17,15 @@
 
 #include <toml++/toml.h>
 
+#include "granular/value_range.hpp"
 #include "granular/vec3.hpp"
 #include "nearest_name.hpp"
 #include "number_format.hpp"
 
 namespace granular {
 
-/// An allowed interval of a number, printed in messages ("must be in [0, 10]", "must be > 0").
-struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
-  bool loInclusive = true;
-  bool hiInclusive = true;
-
-  static Range any() { return {}; }
-  static Range atLeast(double lo) { return {lo, kInf, true, true}; }              ///< [lo, ∞)
-  static Range above(double lo) { return {lo, kInf, false, true}; }               ///< (lo, ∞)
-  static Range closed(double lo, double hi) { return {lo, hi, true, true}; }      ///< [lo, hi]
-  static Range halfOpen(double lo, double hi) { return {lo, hi, true, false}; }   ///< [lo, hi)
-  static Range aboveUpTo(double lo, double hi) { return {lo, hi, false, true}; }  ///< (lo, hi]
-
-  bool contains(double x) const;
-  /// "must be > 0", "must be in [0, 0.5)", ...
-  std::string describe() const;
-
- private:
-  static constexpr double kInf = std::numeric_limits<double>::infinity();
-};
+/// The allowed interval of a number (granular/value_range.hpp).
+using Range = ValueRange;
 
 /// A TOML value as the user would write it: 0.3, "hooke", [0, 0, -9.81], true.
 std::string describeValue(const toml::node& node);

@@ -33,9 +33,12 @@ class CheckpointError : public std::runtime_error {
 /// 3: the caller's data after the state (a run's stage progress).
 /// 4: the fingerprint's parts before the state, so that a refusal can name what changed; and
 ///    Material::noPull (one flag byte) at the end of the payload (versions 2 and 3: true).
-/// Versions 2 and 3 still read; checked against a SceneFingerprint they are refused, since their
+/// 5: every material parameter the contact model declares (granular/contact_model.hpp) as
+///    (key, value) pairs after that flag: a parameter the file lacks keeps its default, one this
+///    build does not declare is refused by name.
+/// Versions 2 to 4 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 4;
+inline constexpr std::uint32_t kCheckpointVersion = 5;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

@@ -1,0 +1,63 @@
+#pragma once
+/// Normal elastic force F = (2/3) E/(1-ν²) R^(2-α) h^α, α = 1 (Hooke) or 3/2 (Hertz)
+/// (docs/physics.md §1, Eq. (3)), and the elastic energy it stores, ∫F dh.
+#include <cmath>
+#include <tuple>
+
+#include "granular/contact_terms/term.hpp"
+
+namespace granular {
+
+/// Normal elastic law: F = (2/3) E/(1-ν²) R^(2-α) h^α with α = 1 (Hooke) or α = 3/2 (Hertz).
+enum class NormalLaw { Hooke, Hertz };
+
+struct NormalElastic {
+  static constexpr std::string_view name = "normal_elastic";
+  static constexpr std::string_view kLawNames[] = {"hooke", "hertz"};
+
+  struct Parameters {
+    NormalLaw normalLaw = NormalLaw::Hooke;  ///< α = 1 (Hooke) or 3/2 (Hertz)
+    double youngModulus = 0.3e6;             ///< elastic modulus E [Pa]
+    double poissonRatio = 0.30;              ///< Poisson's ratio ν [-]
+
+    /// (2/3) E/(1-ν²): multiplies R^(2-α) h^α in the normal elastic force [Pa].
+    double normalCoefficient() const {
+      return 2.0 / 3.0 * youngModulus / (1.0 - poissonRatio * poissonRatio);
+    }
+    /// α of the normal law [-].
+    double exponent() const { return normalLaw == NormalLaw::Hooke ? 1.0 : 1.5; }
+  };
+  /// The modulus' upper bound catches a unit slip (MPa written as Pa × 1e6 twice).
+  static constexpr auto parameters = std::tuple{
+      ChoiceParameter<Parameters, NormalLaw>{"normal_law", "α", kLawNames,
+                                             "α = 1 (hooke) or 3/2 (hertz) in "
+                                             "F = (2/3)E/(1−ν²)·R^(2−α)·h^α",
+                                             &Parameters::normalLaw},
+      NumberParameter<Parameters>{"youngs_modulus", "E", "Pa", ValueRange::aboveUpTo(0, 1e12),
+                                  "elastic modulus", &Parameters::youngModulus},
+      NumberParameter<Parameters>{"poisson_ratio", "ν", "-", ValueRange::halfOpen(0, 0.5),
+                                  "Poisson's ratio", &Parameters::poissonRatio},
+  };
+  static constexpr std::span<const std::string_view> history{};
+  static constexpr EnergyTerm kEnergy[] = {
+      {"elastic_normal_J", EnergyKind::Stored, "Σ over contacts of ∫ F_n^e dh"}};
+  static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr std::string_view stableStep =
+      "the contact's duration: the step is at most 1/50 (gear5) or 1/10 (verlet) of the stiffest "
+      "contact's";
+
+  /// Elastic force k R^(2-α) h^α and the energy it stores (k: the normal coefficient).
+  template <NormalLaw kLaw>
+  [[gnu::always_inline]] static void force(double coefficient, double radius, double h,
+                                           double& force, double& stored) {
+    if constexpr (kLaw == NormalLaw::Hooke) {
+      force = coefficient * radius * h;
+      stored = 0.5 * force * h;
+    } else {
+      force = coefficient * std::sqrt(radius * h) * h;
+      stored = 0.4 * force * h;
+    }
+  }
+};
+
+}  // namespace granular

@@ -1,0 +1,40 @@
+#pragma once
+/// Tangential dashpot γt m v_t (docs/physics.md §1, Eq. (4)): part of the trial tangential force
+/// before the Coulomb cap, so it acts while the contact sticks.
+#include <tuple>
+
+#include "granular/contact_terms/term.hpp"
+
+namespace granular {
+
+struct TangentialDamping {
+  static constexpr std::string_view name = "tangential_damping";
+  struct Parameters {
+    double tangentialDamping = 10.0;  ///< tangential viscous damping γt [1/s]
+  };
+  static constexpr auto parameters = std::tuple{
+      NumberParameter<Parameters>{"tangential_damping", "γt", "1/s", ValueRange::atLeast(0),
+                                  "tangential viscous damping; with friction at most "
+                                  "0.163/(21 Δt) (gear5) or 1/(21 Δt) (verlet)",
+                                  &Parameters::tangentialDamping},
+  };
+  static constexpr std::span<const std::string_view> history{};
+  static constexpr EnergyTerm kEnergy[] = {
+      {"dissipated_tangential_J", EnergyKind::Dissipated, "by the dashpot while sticking"}};
+  static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr std::string_view stableStep =
+      "γt <= z/(21 Δt): a sticking contact's dashpot acts at 3.5 γt, up to 6 at once, and the "
+      "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 1 verlet)";
+
+  /// Adds the dashpot −γt m v_t to the trial force t; returns the power it takes, γt m |v_t|².
+  [[gnu::always_inline]] static double addForce(double damping, double mass, double vtx, double vty,
+                                                double vtz, double& tx, double& ty, double& tz) {
+    const double c = damping * mass;
+    tx -= c * vtx;
+    ty -= c * vty;
+    tz -= c * vtz;
+    return c * (vtx * vtx + vty * vty + vtz * vtz);
+  }
+};
+
+}  // namespace granular

@@ -1,0 +1,89 @@
+#pragma once
+/// Tangential spring with history and the Coulomb cap (docs/physics.md §1, Eqs. (4)-(5)): the
+/// force −k_t ξ, k_t = (8/3) G √(R h)/(2−ν), of the stretch ξ accumulated while the contact
+/// lasts, capped at μ |F_n|. The stored stretch is first turned into the current tangent plane
+/// keeping its length (the contact frame turns with the particles; the stretch does not grow or
+/// shrink by it); while sliding it is reset so that the spring alone carries the cap.
+#include <cmath>
+#include <tuple>
+
+#include "granular/contact_terms/term.hpp"
+
+namespace granular {
+
+struct TangentialSpring {
+  static constexpr std::string_view name = "tangential_spring";
+  struct Parameters {
+    double friction = 0.0;         ///< Coulomb friction coefficient μ [-], particles and walls
+    double shearModulus = 0.11e6;  ///< shear modulus G [Pa]
+
+    /// True when the tangential force can be non-zero: the Coulomb cap μ|F_n| is then positive.
+    /// With μ = 0 the tangential force is min(|F_st|, 0) = 0 whatever γt is, so the scene needs
+    /// neither tangential history nor rotations.
+    bool hasFriction() const { return friction > 0.0; }
+  };
+  static constexpr auto parameters = std::tuple{
+      NumberParameter<Parameters>{"friction", "μ", "-", ValueRange::closed(0, 10),
+                                  "Coulomb coefficient, particles and walls; 0 switches "
+                                  "tangential forces and rotations off",
+                                  &Parameters::friction},
+      NumberParameter<Parameters>{"shear_modulus", "G", "Pa", ValueRange::aboveUpTo(0, 1e12),
+                                  "shear modulus", &Parameters::shearModulus},
+  };
+  static constexpr std::string_view kHistory[] = {"stretch ξ (3) [m]", "stiffness k_t [N/m]"};
+  static constexpr std::span<const std::string_view> history{kHistory};
+  static constexpr EnergyTerm kEnergy[] = {
+      {"elastic_tangential_J", EnergyKind::Stored, "Σ over contacts of ½ k_t |ξ|²"},
+      {"dissipated_friction_J", EnergyKind::Dissipated, "by Coulomb sliding"},
+      {"tangential_stiffness_work_J", EnergyKind::Stored,
+       "work of k_t changing at fixed ξ (the √h spring is not conservative)"}};
+  static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
+
+  /// The stored stretch s turned into the tangent plane of n keeping its length; with kAdvance
+  /// advanced by v_t Δt. Returns |s|² before the turn (the stored spring's energy is ½ k |s|²).
+  template <bool kAdvance>
+  [[gnu::always_inline]] static double turnAndAdvance(double nx, double ny, double nz, double vtx,
+                                                      double vty, double vtz, double dt, double& sx,
+                                                      double& sy, double& sz) {
+    const double length2 = sx * sx + sy * sy + sz * sz;
+    const double sn = sx * nx + sy * ny + sz * nz;
+    sx -= sn * nx;
+    sy -= sn * ny;
+    sz -= sn * nz;
+    const double projected2 = sx * sx + sy * sy + sz * sz;
+    const double ratio = std::sqrt(length2 / (projected2 > 0.0 ? projected2 : 1.0));
+    const double turn = projected2 > 0.0 ? ratio : 0.0;
+    sx *= turn;
+    sy *= turn;
+    sz *= turn;
+    if constexpr (kAdvance) {
+      sx += vtx * dt;
+      sy += vty * dt;
+      sz += vtz * dt;
+    }
+    return length2;
+  }
+
+  /// The trial force caps at `limit` = μ|F_n|: returns true when it slides, t then scaled to
+  /// the cap and s reset so that the spring alone carries it (s = −t/k_t).
+  [[gnu::always_inline]] static bool cap(double limit, double kt, double& tx, double& ty,
+                                         double& tz, double& sx, double& sy, double& sz) {
+    const double ft2 = tx * tx + ty * ty + tz * tz;
+    const bool sliding = ft2 > limit * limit;
+    // Branch-free: every lane computes both, a select keeps one (contact_law.hpp).
+    const double scaled = limit / std::sqrt(sliding ? ft2 : 1.0);
+    const double factor = sliding ? scaled : 1.0;
+    tx *= factor;
+    ty *= factor;
+    tz *= factor;
+    const double inverse = 1.0 / (kt > 0.0 ? kt : 1.0);
+    const double compliance = kt > 0.0 ? inverse : 0.0;
+    sx = sliding ? -tx * compliance : sx;
+    sy = sliding ? -ty * compliance : sy;
+    sz = sliding ? -tz * compliance : sz;
+    return sliding;
+  }
+};
+
+}  // namespace granular

@@ -1,0 +1,184 @@
+/// The table of material parameters (contact_model.hpp), built once from the terms'
+/// declarations.
+#include "granular/contact_model.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <tuple>
+#include <type_traits>
+
+#include "granular/error.hpp"
+#include "granular/material.hpp"
+#include "number_format.hpp"
+
+namespace granular {
+namespace {
+
+/// The I-th parameter of term T as a ParameterSpec: its accessors reach the term's Parameters
+/// inside a Material through the base class.
+template <class T, std::size_t I>
+ParameterSpec specOf() {
+  using P = typename T::Parameters;
+  constexpr auto d = std::get<I>(T::parameters);
+  ParameterSpec s;
+  s.term = T::name;
+  s.key = d.key;
+  s.symbol = d.symbol;
+  s.doc = d.doc;
+  s.kind = d.kind;
+  if constexpr (d.kind == ParameterKind::Number) {
+    s.unit = d.unit;
+    s.range = d.range;
+    s.defaultValue = P{}.*(d.field);
+    s.get = [](const Material& m) {
+      return static_cast<const P&>(m).*(std::get<I>(T::parameters).field);
+    };
+    s.set = [](Material& m, double v) {
+      static_cast<P&>(m).*(std::get<I>(T::parameters).field) = v;
+    };
+  } else if constexpr (d.kind == ParameterKind::Choice) {
+    using E = std::remove_cvref_t<decltype(P{}.*(d.field))>;
+    s.unit = "-";
+    s.names = d.names;
+    s.range = ValueRange::closed(0, double(d.names.size() - 1));
+    s.defaultValue = double(static_cast<int>(P{}.*(d.field)));
+    s.get = [](const Material& m) {
+      return double(static_cast<int>(static_cast<const P&>(m).*(std::get<I>(T::parameters).field)));
+    };
+    s.set = [](Material& m, double v) {
+      static_cast<P&>(m).*(std::get<I>(T::parameters).field) = static_cast<E>(static_cast<int>(v));
+    };
+  } else {
+    s.unit = "-";
+    s.range = ValueRange::closed(0, 1);
+    s.defaultValue = P{}.*(d.field) ? 1.0 : 0.0;
+    s.get = [](const Material& m) {
+      return static_cast<const P&>(m).*(std::get<I>(T::parameters).field) ? 1.0 : 0.0;
+    };
+    s.set = [](Material& m, double v) {
+      static_cast<P&>(m).*(std::get<I>(T::parameters).field) = v != 0.0;
+    };
+  }
+  return s;
+}
+
+template <class T, std::size_t... I>
+void addTerm(std::vector<ParameterSpec>& out, std::index_sequence<I...>) {
+  (out.push_back(specOf<T, I>()), ...);
+}
+
+template <class... Terms>
+std::vector<ParameterSpec> tableOf(TermList<Terms...>) {
+  std::vector<ParameterSpec> out;
+  (addTerm<Terms>(out, std::make_index_sequence<std::tuple_size_v<decltype(Terms::parameters)>>{}),
+   ...);
+  return out;
+}
+
+template <class... Terms>
+std::vector<TermSpec> termsOf(TermList<Terms...>) {
+  return {TermSpec{Terms::name, Terms::history, Terms::energy, Terms::stableStep}...};
+}
+
+/// "name" with its quotes, appended piece by piece: GCC 12 warns falsely (-Wrestrict) on
+/// "\"" + std::string + "\"".
+std::string quoted(std::string_view name) {
+  std::string out;
+  out += '"';
+  out += name;
+  out += '"';
+  return out;
+}
+
+}  // namespace
+
+std::string ParameterSpec::valueText(double value) const {
+  switch (kind) {
+    case ParameterKind::Choice: {
+      const auto at = static_cast<std::size_t>(value);
+      if (value >= 0 && at < names.size() && double(at) == value) return quoted(names[at]);
+      return formatNumber(value);
+    }
+    case ParameterKind::Flag:
+      return value == 1.0 ? "true" : value == 0.0 ? "false" : formatNumber(value);
+    case ParameterKind::Number:
+      break;
+  }
+  return formatNumber(value);
+}
+
+bool ParameterSpec::accepts(double value) const {
+  if (!std::isfinite(value) || !range.contains(value)) return false;
+  return kind == ParameterKind::Number || value == std::floor(value);
+}
+
+std::string ParameterSpec::requirement() const {
+  switch (kind) {
+    case ParameterKind::Choice: {
+      std::string out = "must be one of ";
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        if (k > 0) out += ", ";
+        out += quoted(names[k]);
+      }
+      return out;
+    }
+    case ParameterKind::Flag:
+      return "must be true or false";
+    case ParameterKind::Number:
+      break;
+  }
+  return range.describe();
+}
+
+std::span<const ParameterSpec> materialParameters() {
+  static const std::vector<ParameterSpec> table = tableOf(ContactModel{});
+  return table;
+}
+
+std::span<const TermSpec> contactTerms() {
+  static const std::vector<TermSpec> terms = termsOf(ContactModel{});
+  return terms;
+}
+
+const ParameterSpec* findParameter(std::string_view key, std::span<const ParameterSpec> table) {
+  for (const ParameterSpec& p : table) {
+    if (p.key == key) return &p;
+  }
+  return nullptr;
+}
+
+void validateMaterial(const Material& material, std::span<const ParameterSpec> table) {
+  for (const ParameterSpec& p : table) {
+    const double value = p.get(material);
+    if (p.accepts(value)) continue;
+    std::string what = "material.";  // appended piece by piece (quoted() says why)
+    what += p.key;
+    what += " = ";
+    what += p.valueText(value);
+    if (p.unit != "-") {
+      what += ' ';
+      what += p.unit;
+    }
+    what += ": ";
+    what += p.requirement();
+    throw ConfigError(what);
+  }
+}
+
+std::vector<std::pair<std::string, double>> materialValues(const Material& material,
+                                                           std::span<const ParameterSpec> table) {
+  std::vector<std::pair<std::string, double>> out;
+  out.reserve(table.size());
+  for (const ParameterSpec& p : table) out.emplace_back(std::string(p.key), p.get(material));
+  return out;
+}
+
+bool sameMaterial(const Material& a, const Material& b, std::span<const ParameterSpec> table) {
+  for (const ParameterSpec& p : table) {
+    const double x = p.get(a), y = p.get(b);
+    if (std::memcmp(&x, &y, sizeof x) != 0) return false;
+  }
+  return true;
+}
+
+}  // namespace granular
