@@ -4,7 +4,6 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 
-#include "bench_accuracy_command.hpp"
 #include "calibrate_command.hpp"
 #include "paper_command.hpp"
 #include "run_command.hpp"
@@ -29,12 +28,10 @@ class CommandLine {
   PaperOptions paper_;
   CalibrateOptions calibrate_;
   std::filesystem::path figuresDir_;
-  BenchAccuracyOptions bench_;
   CLI::App* runCommand_ = nullptr;
   CLI::App* paperCommand_ = nullptr;
   CLI::App* calibrateCommand_ = nullptr;
   CLI::App* figuresCommand_ = nullptr;
-  CLI::App* benchCommand_ = nullptr;
 };
 
 }  // namespace granular::app

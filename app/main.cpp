@@ -3,7 +3,6 @@
 ///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
 ///   granular figures RUN_DIR
 ///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]
-///   granular bench-accuracy [--run DIR] [--out DIR] [--scenes DIR] [--quick]
 /// The options live in command_line.cpp; docs/guide.md §8 lists them (a test keeps it true).
 #include <malloc.h>
 

@@ -71,7 +71,7 @@ std::vector<CLI::App*> subcommands(CommandLine& cli) {
 TEST(CommandLine, EverySubcommandIsDocumentedAndDescribed) {
   CommandLine cli;
   const std::vector<CLI::App*> commands = subcommands(cli);
-  ASSERT_GE(commands.size(), 5u);  // run, paper, figures, calibrate-box, bench-accuracy
+  ASSERT_GE(commands.size(), 4u);  // run, paper, figures, calibrate-box
   const std::string mainHelp = cli.app().help();
   for (CLI::App* command : commands) {
     SCOPED_TRACE(command->get_name());
@@ -169,6 +169,20 @@ TEST(CommandLine, HelpExitsZeroAndABadOptionExitsTwo) {
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(out.find("--checkpoint-every"), std::string::npos);
   EXPECT_NE(err.find("--no-such-option"), std::string::npos);
+}
+
+TEST(CommandLine, BenchAccuracyIsNoCommandAndNamesTheBenchmarkProgram) {
+  CommandLine cli;
+  EXPECT_EQ(cli.app()
+                .get_subcommands([](CLI::App* c) { return c->get_name() == "bench-accuracy"; })
+                .size(),
+            0u);
+  const char* old[] = {"granular", "bench-accuracy", "--quick"};
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(cli.run(3, const_cast<char**>(old)), 2);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("unknown command 'bench-accuracy'"), std::string::npos) << err;
+  EXPECT_NE(err.find("granular_bench_accuracy"), std::string::npos) << err;
 }
 
 TEST(GuiCommandLine, HelpListsEveryOptionAndScriptCommand) {
