@@ -1,5 +1,6 @@
 #pragma once
-/// The contact law of docs/physics.md §1 (Eqs. 3-5), evaluated for a chunk of contacts at once.
+/// The contact law of docs/physics.md §1 (Eqs. 3-5), composed of the contact model's terms
+/// (granular/contact_terms/), evaluated for a chunk of contacts at once.
 ///
 /// Why chunks: the law is a chain of square roots and divisions (distance, normal, reduced
 /// radius and mass, the spring's rotation, k_t ∝ √(R h), the Coulomb scaling) with
@@ -20,6 +21,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "granular/contact_model.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -113,16 +115,15 @@ template <bool kFriction>
   }
 }
 
-/// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body:
-/// normal elastic k R^(2-α) h^α plus dashpot γn m ḣ, clamped at zero (never pulling) unless
-/// the scene allows a pull; with friction the tangential spring k_t ξ, k_t = (8/3) G √(R h)/(2-ν),
-/// plus dashpot γt m v_t, capped at μ |F_n|. The stored spring is first rotated into the current
-/// tangent plane keeping its length (the contact frame turns with the particles, the stretch does
-/// not grow or shrink by it); while sliding it is reset so that the spring alone carries the cap.
-/// With kAdvance the spring is advanced by v_t Δt and written back; without, the force is evaluated
-/// for the stored spring (measurements between steps).
+/// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body,
+/// composed of the contact model's terms (granular/contact_terms/): the normal elastic law and
+/// dashpot (clamped at zero unless the scene allows a pull), and with friction the tangential
+/// spring and dashpot capped at μ |F_n|. With kAdvance the spring is advanced by v_t Δt and
+/// written back; without, the force is evaluated for the stored spring (measurements between
+/// steps). The terms are inline functions on one lane: the composition is fixed at compile
+/// time, and a frictionless scene's build has no tangential code at all.
 template <bool kFriction, NormalLaw kLaw, bool kAdvance>
-[[gnu::always_inline]] inline void contactLaw(const ContactConstants& k0, ContactChunk& c,
+[[gnu::always_inline]] inline void contactLaw(const ContactConstants& constants, ContactChunk& c,
                                               std::size_t count) {
   // Two loops rather than one: each iteration's chain of roots and divisions is long (the
   // spring's rotation, k_t, then the Coulomb scaling), and with the loop split the CPU overlaps
@@ -131,51 +132,32 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
   for (std::size_t k = 0; k < count; ++k) {
     const double h = c.overlap[k], nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
     const double radius = c.radius[k], mass = c.mass[k];
-    // Normal: elastic + viscous, never pulling unless the floor is −∞ (max(−∞, x) = x).
-    double fe, elastic;
-    if constexpr (kLaw == NormalLaw::Hooke) {
-      fe = k0.normalCoefficient * radius * h;
-      elastic = 0.5 * fe * h;
-    } else {
-      fe = k0.normalCoefficient * std::sqrt(radius * h) * h;
-      elastic = 0.4 * fe * h;
-    }
+    double fe, stored;
+    NormalElastic::force<kLaw>(constants.normalCoefficient, radius, h, fe, stored);
     const double rate = c.vx[k] * nx + c.vy[k] * ny + c.vz[k] * nz;  // ḣ
-    const double fn = std::max(k0.normalForceFloor, fe + k0.normalDamping * mass * rate);
+    double fn, dashpot;
+    NormalDamping::force(constants.normalDamping, constants.normalForceFloor, mass, fe, rate, fn,
+                         dashpot);
     c.fx[k] = -fn * nx;
     c.fy[k] = -fn * ny;
     c.fz[k] = -fn * nz;
-    c.elasticNormal[k] = elastic;
-    c.normalDampingPower[k] = (fn - fe) * rate;
+    c.elasticNormal[k] = stored;
+    c.normalDampingPower[k] = dashpot;
     if constexpr (kFriction) {
       const double cn = c.cx[k] * nx + c.cy[k] * ny + c.cz[k] * nz;
       const double vtx = c.cx[k] - cn * nx, vty = c.cy[k] - cn * ny, vtz = c.cz[k] - cn * nz;
-      // The stored spring rotated into the tangent plane, its length kept.
       double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
-      const double length2 = sx * sx + sy * sy + sz * sz;
-      const double sn = sx * nx + sy * ny + sz * nz;
-      sx -= sn * nx;
-      sy -= sn * ny;
-      sz -= sn * nz;
-      const double projected2 = sx * sx + sy * sy + sz * sz;
-      const double ratio = std::sqrt(length2 / (projected2 > 0.0 ? projected2 : 1.0));
-      const double turn = projected2 > 0.0 ? ratio : 0.0;
-      sx *= turn;
-      sy *= turn;
-      sz *= turn;
-      const double kt = k0.tangentialCoefficient * std::sqrt(radius * h);
-      c.stiffnessWork[k] = 0.0;
-      if constexpr (kAdvance) {
-        c.stiffnessWork[k] = 0.5 * (kt - c.stiffness[k]) * length2;
-        sx += vtx * k0.dt;
-        sy += vty * k0.dt;
-        sz += vtz * k0.dt;
-      }
-      const double damping = k0.tangentialDamping * mass;
-      // The trial force, before the Coulomb cap.
-      c.tx[k] = -kt * sx - damping * vtx;
-      c.ty[k] = -kt * sy - damping * vty;
-      c.tz[k] = -kt * sz - damping * vtz;
+      const double length2 = TangentialSpring::turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz,
+                                                                        constants.dt, sx, sy, sz);
+      const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient, radius, h);
+      c.stiffnessWork[k] = kAdvance ? 0.5 * (kt - c.stiffness[k]) * length2 : 0.0;
+      // The trial force, before the Coulomb cap: the spring's, then the dashpot's.
+      double tx = -kt * sx, ty = -kt * sy, tz = -kt * sz;
+      c.tangentialDampingPower[k] =
+          TangentialDamping::addForce(constants.tangentialDamping, mass, vtx, vty, vtz, tx, ty, tz);
+      c.tx[k] = tx;
+      c.ty[k] = ty;
+      c.tz[k] = tz;
       c.sx[k] = sx;
       c.sy[k] = sy;
       c.sz[k] = sz;
@@ -183,28 +165,16 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       c.vty[k] = vty;
       c.vtz[k] = vtz;
       c.kt[k] = kt;
-      c.limit[k] = k0.friction * std::abs(fn);  // μ |F_n|: F_n < 0 only with a pull
-      c.tangentialDampingPower[k] = damping * (vtx * vtx + vty * vty + vtz * vtz);
+      c.limit[k] = constants.friction * std::abs(fn);  // μ |F_n|: F_n < 0 only with a pull
     }
   }
   if constexpr (kFriction) {
 #pragma omp simd
     for (std::size_t k = 0; k < count; ++k) {
       double tx = c.tx[k], ty = c.ty[k], tz = c.tz[k];
-      const double limit = c.limit[k], kt = c.kt[k];
-      const double ft2 = tx * tx + ty * ty + tz * tz;
-      const bool sliding = ft2 > limit * limit;
-      // Gross sliding: Coulomb, and the spring carries the whole limit.
-      const double scaled = limit / std::sqrt(sliding ? ft2 : 1.0);
-      const double cap = sliding ? scaled : 1.0;
-      tx *= cap;
-      ty *= cap;
-      tz *= cap;
-      const double inverse = 1.0 / (kt > 0.0 ? kt : 1.0);
-      const double compliance = kt > 0.0 ? inverse : 0.0;
-      const double sx = sliding ? -tx * compliance : c.sx[k];
-      const double sy = sliding ? -ty * compliance : c.sy[k];
-      const double sz = sliding ? -tz * compliance : c.sz[k];
+      double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
+      const double kt = c.kt[k];
+      const bool sliding = TangentialSpring::cap(c.limit[k], kt, tx, ty, tz, sx, sy, sz);
       const double dampingPower = c.tangentialDampingPower[k];
       c.tangentialDampingPower[k] = sliding ? 0.0 : dampingPower;  // sticking only
       c.tangentialPower[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];

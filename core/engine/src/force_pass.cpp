@@ -53,39 +53,39 @@ struct ChunkKernels {
   friction ? pairGeometry<true>(c, m) : pairGeometry<false>(c, m);
 }
 
-[[gnu::always_inline]] inline void lawBody(const ContactConstants& k, ContactChunk& c,
+[[gnu::always_inline]] inline void lawBody(const ContactConstants& constants, ContactChunk& c,
                                            std::size_t m, bool friction, NormalLaw law,
                                            bool advance) {
   const bool hertz = law == NormalLaw::Hertz;
   if (friction) {
     if (hertz) {
-      advance ? contactLaw<true, NormalLaw::Hertz, true>(k, c, m)
-              : contactLaw<true, NormalLaw::Hertz, false>(k, c, m);
+      advance ? contactLaw<true, NormalLaw::Hertz, true>(constants, c, m)
+              : contactLaw<true, NormalLaw::Hertz, false>(constants, c, m);
     } else {
-      advance ? contactLaw<true, NormalLaw::Hooke, true>(k, c, m)
-              : contactLaw<true, NormalLaw::Hooke, false>(k, c, m);
+      advance ? contactLaw<true, NormalLaw::Hooke, true>(constants, c, m)
+              : contactLaw<true, NormalLaw::Hooke, false>(constants, c, m);
     }
   } else {  // no spring: advancing or not is the same
-    hertz ? contactLaw<false, NormalLaw::Hertz, true>(k, c, m)
-          : contactLaw<false, NormalLaw::Hooke, true>(k, c, m);
+    hertz ? contactLaw<false, NormalLaw::Hertz, true>(constants, c, m)
+          : contactLaw<false, NormalLaw::Hooke, true>(constants, c, m);
   }
 }
 
 void geometryBaseline(ContactChunk& c, std::size_t m, bool friction) {
   geometryBody(c, m, friction);
 }
-void lawBaseline(const ContactConstants& k, ContactChunk& c, std::size_t m, bool friction,
+void lawBaseline(const ContactConstants& constants, ContactChunk& c, std::size_t m, bool friction,
                  NormalLaw law, bool advance) {
-  lawBody(k, c, m, friction, law, advance);
+  lawBody(constants, c, m, friction, law, advance);
 }
 
 #if defined(__x86_64__)
 [[gnu::target("avx2")]] void geometryAvx2(ContactChunk& c, std::size_t m, bool friction) {
   geometryBody(c, m, friction);
 }
-[[gnu::target("avx2")]] void lawAvx2(const ContactConstants& k, ContactChunk& c, std::size_t m,
-                                     bool friction, NormalLaw law, bool advance) {
-  lawBody(k, c, m, friction, law, advance);
+[[gnu::target("avx2")]] void lawAvx2(const ContactConstants& constants, ContactChunk& c,
+                                     std::size_t m, bool friction, NormalLaw law, bool advance) {
+  lawBody(constants, c, m, friction, law, advance);
 }
 #endif
 
@@ -279,16 +279,16 @@ void addPowers(ContactPowers& sum, const ContactPowers& part) {
 
 /// Builds list.plan (simulation_state.hpp) for n particles, `walls` walls and `threads` parts.
 void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
-  ForcePlan& x = list.plan;
+  ForcePlan& plan = list.plan;
   const std::vector<std::uint32_t>& blockParticle = list.blockParticle;
   const std::vector<std::uint32_t>& blockPair = list.blockPair;
   const std::size_t blocks = blockParticle.size() - 1;
   // Each block's wall candidates (ascending particle in each wall's list).
-  x.blockWall.resize((blocks + 1) * walls);
+  plan.blockWall.resize((blocks + 1) * walls);
   for (std::size_t w = 0; w < walls; ++w) {
     const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
     for (std::size_t b = 0; b <= blocks; ++b) {
-      x.blockWall[b * walls + w] = static_cast<std::uint32_t>(
+      plan.blockWall[b * walls + w] = static_cast<std::uint32_t>(
           std::lower_bound(candidates.begin(), candidates.end(), blockParticle[b]) -
           candidates.begin());
     }
@@ -296,46 +296,48 @@ void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
   // Threads: runs of blocks of about equal work (contacts and particles).
   auto workBefore = [&](std::size_t b) {
     std::size_t work = blockPair[b] + blockParticle[b];
-    for (std::size_t w = 0; w < walls; ++w) work += x.blockWall[b * walls + w];
+    for (std::size_t w = 0; w < walls; ++w) work += plan.blockWall[b * walls + w];
     return work;
   };
   const std::size_t total = workBefore(blocks);
-  x.threadBlock.assign(static_cast<std::size_t>(threads) + 1, static_cast<std::uint32_t>(blocks));
-  x.threadBlock[0] = 0;
+  plan.threadBlock.assign(static_cast<std::size_t>(threads) + 1,
+                          static_cast<std::uint32_t>(blocks));
+  plan.threadBlock[0] = 0;
   for (std::size_t t = 1, b = 0; t < static_cast<std::size_t>(threads); ++t) {
     while (b < blocks && workBefore(b) * threads < total * t) ++b;
-    x.threadBlock[t] = static_cast<std::uint32_t>(b);
+    plan.threadBlock[t] = static_cast<std::uint32_t>(b);
   }
   // Crossing pairs, by the thread of their first; then by the thread of their second.
-  x.crossing.clear();
-  x.crossingFirst.clear();
+  plan.crossing.clear();
+  plan.crossingFirst.clear();
   for (int t = 0; t < threads; ++t) {
-    const std::uint32_t ownEnd = blockParticle[x.threadBlock[t + 1]];
-    for (std::uint32_t i = blockParticle[x.threadBlock[t]]; i < ownEnd; ++i) {
+    const std::uint32_t ownEnd = blockParticle[plan.threadBlock[t + 1]];
+    for (std::uint32_t i = blockParticle[plan.threadBlock[t]]; i < ownEnd; ++i) {
       for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
         if (list.second[k] < ownEnd) continue;
-        x.crossing.push_back(k);
-        x.crossingFirst.push_back(i);
+        plan.crossing.push_back(k);
+        plan.crossingFirst.push_back(i);
       }
     }
   }
-  x.incoming.resize(x.crossing.size());
-  for (std::size_t q = 0; q < x.crossing.size(); ++q) x.incoming[q] = static_cast<std::uint32_t>(q);
-  auto secondOf = [&](std::uint32_t q) { return list.second[x.crossing[q]]; };
+  plan.incoming.resize(plan.crossing.size());
+  for (std::size_t q = 0; q < plan.crossing.size(); ++q)
+    plan.incoming[q] = static_cast<std::uint32_t>(q);
+  auto secondOf = [&](std::uint32_t q) { return list.second[plan.crossing[q]]; };
   // Stable: pairs with the same second stay in ascending first.
-  std::stable_sort(x.incoming.begin(), x.incoming.end(),
+  std::stable_sort(plan.incoming.begin(), plan.incoming.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return secondOf(a) < secondOf(b); });
-  x.incomingStart.resize(static_cast<std::size_t>(threads) + 1);
+  plan.incomingStart.resize(static_cast<std::size_t>(threads) + 1);
   for (int t = 0; t <= threads; ++t) {
-    const std::uint32_t ownBegin = blockParticle[x.threadBlock[t]];
-    x.incomingStart[t] = static_cast<std::uint32_t>(
-        std::partition_point(x.incoming.begin(), x.incoming.end(),
+    const std::uint32_t ownBegin = blockParticle[plan.threadBlock[t]];
+    plan.incomingStart[t] = static_cast<std::uint32_t>(
+        std::partition_point(plan.incoming.begin(), plan.incoming.end(),
                              [&](std::uint32_t q) { return secondOf(q) < ownBegin; }) -
-        x.incoming.begin());
+        plan.incoming.begin());
   }
-  x.incomingStart[threads] = static_cast<std::uint32_t>(x.incoming.size());
-  x.threads = threads;
-  x.valid = true;
+  plan.incomingStart[threads] = static_cast<std::uint32_t>(plan.incoming.size());
+  plan.threads = threads;
+  plan.valid = true;
 }
 
 /// One block's springs rewritten in place by blockPairs: the stored spring of the pair holding
@@ -395,7 +397,7 @@ class PlannedPass {
         p_(s.particles),
         list_(s.neighbours),
         plan_(s.neighbours.plan),
-        out_(s.contactScratch),
+        scratch_(s.contactScratch),
         constants_(constantsOf(s.config, dt)),
         kern_(kernels()),
         walls_(s.walls.size()),
@@ -413,7 +415,7 @@ class PlannedPass {
       ContactPowers powers;  // local: kept in registers
       blockPairs(b, chunk, powers);
       blockWalls(b, chunk, powers);
-      out_.blockPowers[b] = powers;
+      scratch_.blockPowers[b] = powers;
     }
   }
 
@@ -433,7 +435,7 @@ class PlannedPass {
         m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], chunk, m);
       }
       loadPairs<kFriction>(p_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
-        return out_.crossingSpring[at[e]];
+        return scratch_.crossingSpring[at[e]];
       });
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true);
@@ -542,7 +544,7 @@ class PlannedPass {
 
   /// The block's wall contacts, wall by wall, in chunks that may hold several walls.
   void blockWalls(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
-    Vec3* reaction = out_.blockReaction.data() + b * walls_;
+    Vec3* reaction = scratch_.blockReaction.data() + b * walls_;
     std::fill_n(reaction, walls_, Vec3::Zero());
     std::size_t m = 0;
     spans_.clear();
@@ -593,7 +595,7 @@ class PlannedPass {
   const Particles& p_;
   NeighbourList& list_;
   const ForcePlan& plan_;
-  ContactScratch& out_;
+  ContactScratch& scratch_;
   const ContactConstants constants_;
   const ChunkKernels kern_;
   const std::size_t walls_;
@@ -628,14 +630,14 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   if constexpr (kFriction) resizeExactly(s.torque, n);
 
   out.springsSetAside.resize(static_cast<std::size_t>(threads));
-  int broken = 0;
+  int failures = 0;  // the OR of `after`'s results
   if (threads == 1) {
     PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsSetAside[0]);
     ContactChunk chunk;
     pass.ownedPhase(0, chunk);
-    if (after) broken = (*after)(0, n);
+    if (after) failures = (*after)(0, n);
   } else {
-#pragma omp parallel num_threads(threads) reduction(| : broken)
+#pragma omp parallel num_threads(threads) reduction(| : failures)
     {
       // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
       const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
@@ -647,8 +649,8 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
         // Every part has read every position it needs: each part's particles may now move.
 #pragma omp barrier
         for (std::size_t t = omp_get_thread_num(); t < parts; t += team) {
-          broken |= (*after)(list.blockParticle[plan.threadBlock[t]],
-                             list.blockParticle[plan.threadBlock[t + 1]]);
+          failures |= (*after)(list.blockParticle[plan.threadBlock[t]],
+                               list.blockParticle[plan.threadBlock[t + 1]]);
         }
       }
     }
@@ -661,7 +663,7 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
     for (std::size_t b = 0; b < blocks; ++b) reaction += out.blockReaction[b * walls + w];
     s.walls[w].reaction = reaction;
   }
-  return broken;
+  return failures;
 }
 
 // ---- 3. The measuring pass ----------------------------------------------------------------
@@ -746,11 +748,11 @@ bool setForceKernelBuild(ForceKernelBuild build) {
 
 int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
-  int broken = 0;
+  int failures = 0;
   withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() {
-    broken = forcePass<kFriction, kLaw>(s, dt, threads, after);
+    failures = forcePass<kFriction, kLaw>(s, dt, threads, after);
   });
-  return broken;
+  return failures;
 }
 
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,

@@ -40,6 +40,11 @@ struct TangentialSpring {
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
   static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
 
+  /// k_t = (8/3) G/(2−ν) √(R h) (coefficient: (8/3) G/(2−ν)) [N/m].
+  [[gnu::always_inline]] static double stiffness(double coefficient, double radius, double h) {
+    return coefficient * std::sqrt(radius * h);
+  }
+
   /// The stored stretch s turned into the tangent plane of n keeping its length; with kAdvance
   /// advanced by v_t Δt. Returns |s|² before the turn (the stored spring's energy is ½ k |s|²).
   template <bool kAdvance>
