@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "granular/engine_studies.hpp"
 #include "granular/packings.hpp"
 #include "granular/simulation.hpp"
 
@@ -41,7 +42,7 @@ TEST(PairSprings, RebuildingEveryStepGivesTheSameBitsAsRebuildingOnTheSkin) {
     cfg.threads = threads;
     Simulation lazy = landingBed(cfg);
     Simulation eager = landingBed(cfg);
-    eager.setRebuildEveryStep(true);
+    studies::setRebuildEveryStep(eager, true);
     std::size_t mostContacts = 0;
     for (int k = 0; k < 8; ++k) {
       lazy.run(100);

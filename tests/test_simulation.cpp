@@ -8,6 +8,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "granular/packings.hpp"
 #include "physics_fixtures.hpp"
@@ -144,7 +145,7 @@ TEST(Simulation, ContactHistorySurvivesNeighbourListRebuilds) {
   // criterion: the tangential springs are carried across rebuilds, not restarted.
   Simulation lazy = fallingGrid(4, 4, 4, frictional(Integrator::Gear5), 0.3);
   Simulation eager = fallingGrid(4, 4, 4, frictional(Integrator::Gear5), 0.3);
-  eager.setRebuildEveryStep(true);
+  studies::setRebuildEveryStep(eager, true);
   lazy.run(4000);
   eager.run(4000);
   EXPECT_GT(eager.counters().rebuilds, 10 * lazy.counters().rebuilds);

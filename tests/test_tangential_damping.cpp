@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "physics_fixtures.hpp"
 
@@ -57,7 +58,7 @@ TEST(EnergyTangentialDamping, OneContactIsStableBelowItsRateLimitAndGrowsAbove) 
       Simulation sim = stuckSphere(integrator, slip);
       const double single =
           kTangentialContactsAtOnce * maxTangentialDamping(sim.config().timeStep, integrator);
-      sim.disableStepLimitForStudies(true);
+      studies::disableStepLimit(sim, true);
       Material m = sim.config().material;
       m.tangentialDamping = factor * single;
       sim.setMaterial(m);
@@ -119,7 +120,7 @@ TEST(EnergyTangentialDamping, BedHoldsItsBalanceAtTheLimitAndBreaksItAboveThePas
   for (double factor : {1.0, 4.0}) {
     cfg.material.tangentialDamping = 10.0;
     Simulation sim = fallingGrid(5, 5, 6, cfg, 0.3);
-    sim.disableStepLimitForStudies(true);
+    studies::disableStepLimit(sim, true);
     Material m = cfg.material;
     m.tangentialDamping = factor * limit;
     sim.setMaterial(m);

@@ -396,9 +396,6 @@ bool Simulation::frictional() const {
 const StepCounters& Simulation::counters() const {
   return state_->counters;
 }
-void Simulation::setRebuildEveryStep(bool on) {
-  state_->rebuildEveryStep = on;
-}
 void Simulation::setSkin(double skin) {
   require(std::isfinite(skin) && skin >= 0, "skin = " + str(skin) + " m: must be >= 0");
   SimulationState& s = *state_;
@@ -510,10 +507,6 @@ void Simulation::setIntegrator(Integrator integrator) {
     }
   }
   s.config.integrator = integrator;
-}
-
-void Simulation::disableStepLimitForStudies(bool off) {
-  state_->stepLimitDisabled = off;
 }
 
 void Simulation::setThreads(int threads) {

@@ -154,9 +154,6 @@ class Simulation {
   /// a new simulation does. Refused (ConfigError) if the current step is above the new
   /// integrator's limit.
   void setIntegrator(Integrator integrator);
-  /// For stability studies only (bench/bench_gear_stability.cpp): with `off`, time steps above
-  /// maxStableStep are accepted from now on; results may then be garbage. Not checkpointed.
-  void disableStepLimitForStudies(bool off);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
   /// Sets a wall's prescribed velocity [m/s].
@@ -182,8 +179,6 @@ class Simulation {
   /// forEachContact [N].
   std::vector<Vec3> netContactForces() const;
 
-  /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
-  void setRebuildEveryStep(bool on);
   /// Neighbour-list skin [m] (>= 0; 0 picks 0.3 × the smallest radius). A performance knob
   /// only: the list is rebuilt at the next step with the contact history kept, and the contact
   /// forces do not depend on it (tests/test_simulation.cpp).
@@ -197,7 +192,8 @@ class Simulation {
   std::uint64_t stateHash() const;
 
  private:
-  friend struct SimulationAccess;  // checkpoint I/O (core/engine/src/checkpoint.cpp)
+  friend struct SimulationAccess;   // checkpoint I/O (core/engine/src/checkpoint.cpp)
+  friend struct SimulationStudies;  // the switches of granular/engine_studies.hpp
   explicit Simulation(std::unique_ptr<SimulationState> state);
   std::unique_ptr<SimulationState> state_;
 };
