@@ -74,7 +74,7 @@ BoxContactSums boxContactSums(const Simulation& sim) {
   // `lower` is captured by copy explicitly: clang before 16 cannot capture a structured binding.
   sim.forEachContact([&, lower = lower](const ContactView& c) {
     sum += c.force * (c.point - p.position[c.particle]).transpose();
-    if (c.other < 0 && side[static_cast<std::size_t>(-c.other - 1)]) {
+    if (c.isWall() && side[c.wall()]) {
       sums.sideFrictionMoment += c.force.z() * (c.point.z() - lower.z());
     }
   });

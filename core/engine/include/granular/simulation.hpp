@@ -101,14 +101,26 @@ struct StepCounters {
 };
 
 /// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
-/// per-contact files.
+/// per-contact files. The other body is a particle j or a wall: ask isWall(), then read
+/// otherParticle() or wall().
 struct ContactView {
-  std::size_t particle = 0;  ///< i
-  long other = -1;           ///< j >= 0 for a particle, or -(wall index) - 1 for a wall
-  Vec3 point;                ///< contact point C_ij [m]
-  Vec3 force;                ///< F_ij, force on i [N]
-  Vec3 normal;               ///< unit normal from i towards j, or out of i into the wall [-]
-  double overlap = 0;        ///< h > 0 [m]
+  /// What particle i touches.
+  enum class Other : std::uint8_t { Particle, Wall };
+
+  std::size_t particle = 0;           ///< i
+  Other otherKind = Other::Particle;  ///< a particle or a wall
+  /// The other body's index: j in Simulation::particles(), or the wall's in walls().
+  std::size_t otherIndex = 0;
+  Vec3 point;          ///< contact point C_ij [m]
+  Vec3 force;          ///< F_ij, force on i [N]
+  Vec3 normal;         ///< unit normal from i towards j, or out of i into the wall [-]
+  double overlap = 0;  ///< h > 0 [m]
+
+  bool isWall() const { return otherKind == Other::Wall; }
+  /// j, for a contact with a particle (!isWall()).
+  std::size_t otherParticle() const { return otherIndex; }
+  /// The wall's index in Simulation::walls(), for a contact with a wall (isWall()).
+  std::size_t wall() const { return otherIndex; }
 };
 
 struct SimulationState;  // private: core/engine/src/simulation_state.hpp
