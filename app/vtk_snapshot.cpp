@@ -54,8 +54,9 @@ void writeParticlesVtp(const std::filesystem::path& file, const Simulation& sim)
   auto spin = array("angular_velocity_rad_s", 3, n);
   auto forceSum = array("force_sum_N", 1, n);
   auto stress = array("stress_Pa", 9, n);
-  const std::vector<double> sums = particleForceSums(sim);
-  const std::vector<Mat3> stresses = particleStresses(sim);
+  const ParticleMeasures measures = particleMeasures(sim);
+  const std::vector<double>& sums = measures.forceSums;
+  const std::vector<Mat3>& stresses = measures.stresses;
   for (vtkIdType i = 0; i < n; ++i) {
     points->SetPoint(i, p.position[i].x(), p.position[i].y(), p.position[i].z());
     vertices->InsertNextCell(1, &i);
