@@ -21,12 +21,12 @@ void writeContactCsv(const std::filesystem::path& path, const Simulation& sim) {
     out << ',' << number(v.x()) << ',' << number(v.y()) << ',' << number(v.z());
   };
   sim.forEachContact([&](const ContactView& c) {
-    if (c.other >= 0 && std::size_t(c.other) < c.particle) return;  // a pair once
+    if (!c.isWall() && c.otherParticle() < c.particle) return;  // a pair once
     out << c.particle << ',';
-    if (c.other >= 0) {
-      out << c.other << ',';
+    if (c.isWall()) {
+      out << ',' << sim.walls()[c.wall()].name;  // names need no quoting
     } else {
-      out << ',' << sim.walls()[std::size_t(-c.other - 1)].name;  // names need no quoting
+      out << c.otherParticle() << ',';
     }
     vector(c.point);
     out << ',' << number(c.overlap);

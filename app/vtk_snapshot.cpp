@@ -54,8 +54,9 @@ void writeParticlesVtp(const std::filesystem::path& file, const Simulation& sim)
   auto spin = array("angular_velocity_rad_s", 3, n);
   auto forceSum = array("force_sum_N", 1, n);
   auto stress = array("stress_Pa", 9, n);
-  const std::vector<double> sums = particleForceSums(sim);
-  const std::vector<Mat3> stresses = particleStresses(sim);
+  const ParticleMeasures measures = particleMeasures(sim);
+  const std::vector<double>& sums = measures.forceSums;
+  const std::vector<Mat3>& stresses = measures.stresses;
   for (vtkIdType i = 0; i < n; ++i) {
     points->SetPoint(i, p.position[i].x(), p.position[i].y(), p.position[i].z());
     vertices->InsertNextCell(1, &i);
@@ -91,9 +92,9 @@ void writeContactsVtp(const std::filesystem::path& file, const Simulation& sim) 
   vtkNew<vtkIntArray> wallIndex;
   wallIndex->SetName("wall");
   sim.forEachContact([&](const ContactView& c) {
-    if (c.other >= 0 && std::size_t(c.other) < c.particle) return;  // a pair once
+    if (!c.isWall() && c.otherParticle() < c.particle) return;  // a pair once
     const Vec3& xi = p.position[c.particle];
-    const Vec3 end = c.other >= 0 ? p.position[std::size_t(c.other)] : c.point;
+    const Vec3 end = c.isWall() ? c.point : p.position[c.otherParticle()];
     const Vec3& n = c.normal;  // from the particle towards the other body, as the law's
     const Vec3 fn = c.force.dot(n) * n;
     const vtkIdType ids[2] = {points->InsertNextPoint(xi.x(), xi.y(), xi.z()),
@@ -103,7 +104,7 @@ void writeContactsVtp(const std::filesystem::path& file, const Simulation& sim) 
     const Vec3 ft = c.force - fn;
     tangential->InsertNextTuple3(ft.x(), ft.y(), ft.z());
     magnitude->InsertNextValue(fn.norm());
-    wallIndex->InsertNextValue(c.other >= 0 ? -1 : int(-c.other - 1));
+    wallIndex->InsertNextValue(c.isWall() ? int(c.wall()) : -1);
   });
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(points);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "granular/checkpoint.hpp"
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "granular/simulation.hpp"
 #include "physics_fixtures.hpp"  // the tests' falling-grid bed
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
         for (double k : fractions) {
           Simulation sim = readCheckpoint(file);
           // Past the core's limits on purpose: this is the measurement that sets them.
-          sim.disableStepLimitForStudies(true);
+          studies::disableStepLimit(sim, true);
           sim.setIntegrator(integrator);
           sim.setTimeStep(tc / k);
           const bool refused = tc / k > maxStableStep(sim.contactScale(), integrator) * (1 + 1e-12);

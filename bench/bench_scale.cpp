@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "granular/engine_studies.hpp"
 #include "granular/packings.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
@@ -237,9 +238,9 @@ void runCase(long n, const Options& o) {
     const std::uint64_t rebuilds = sim.counters().rebuilds - rebuildsBefore;
     // One more step, untimed, that rebuilds the neighbour list: the timed steps may hold no
     // rebuild (at 10⁶ a rebuild comes every few hundred steps), yet the run's peak is there.
-    sim.setRebuildEveryStep(true);
+    granular::studies::setRebuildEveryStep(sim, true);
     sim.step();
-    sim.setRebuildEveryStep(false);
+    granular::studies::setRebuildEveryStep(sim, false);
     const double rebuildPeak = statusBytes("VmHWM");
     {
       // Where the bytes are, from the arrays' capacities (stderr, beside the table).

@@ -73,6 +73,38 @@ TEST(GuiRunner, StepsExactlyAsTheCoreDoes) {
   EXPECT_NEAR(sum, eq1, 1e-9 * std::abs(eq1));
 }
 
+// The colourings by σ33 and by Σ|F| are the analysis layer's per-particle measures, bit for bit:
+// one definition for the window, the ParaView snapshots and the figures.
+TEST(GuiRunner, PerParticleColoursAreTheAnalysisLayersMeasures) {
+  SimRunner runner(kDemo);
+  runner.setStepsPerUpdate(1000);
+  runner.step(6000);  // 1 s: the spheres have fallen and press on each other in a bed
+  Snapshot s;
+  for (int k = 0; k < 4000 && s.steps < 6000; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  ASSERT_EQ(s.steps, 6000u);
+
+  Scene scene = loadScene(kDemo);
+  Simulation direct = buildSimulation(scene);
+  beginStage(direct, scene.stages.front());
+  direct.run(6000);
+  ASSERT_EQ(s.centres, direct.particles().position);  // the same state
+  const std::vector<Mat3> stresses = particleStresses(direct);
+  const std::vector<double> sums = particleForceSums(direct);
+  ASSERT_EQ(s.stress33.size(), stresses.size());
+  ASSERT_EQ(s.forceSum.size(), sums.size());
+  std::size_t compressed = 0;
+  for (std::size_t i = 0; i < stresses.size(); ++i) {
+    EXPECT_EQ(s.stress33[i], stresses[i](2, 2)) << "particle " << i;
+    EXPECT_EQ(s.forceSum[i], sums[i]) << "particle " << i;
+    compressed += stresses[i](2, 2) < 0;
+  }
+  // A bed under its own weight, not a cloud in free flight: (nearly) every sphere is pressed.
+  EXPECT_GT(compressed, stresses.size() * 9 / 10);
+}
+
 TEST(GuiRunner, ExportsTheFiguresOfTheRunOnScreen) {
   SimRunner runner(kDemo);
   runner.setStepsPerUpdate(200);

@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -72,7 +73,7 @@ double fractionOf(Integrator integrator) {
 Vec3 wallContactForce(const Simulation& sim) {
   Vec3 f = Vec3::Zero();
   sim.forEachContact([&](const ContactView& c) {
-    if (c.particle == 0 && c.other < 0) f += c.force;
+    if (c.particle == 0 && c.isWall()) f += c.force;
   });
   return f;
 }
@@ -275,39 +276,43 @@ Simulation bimodalBed(const SimulationConfig& cfg) {
 void expectContactsMatchBruteForce(const Simulation& sim, const char* when,
                                    std::size_t largeSmallAtLeast) {
   const Particles& p = sim.particles();
-  std::set<std::pair<long, long>> brute, reported;
+  using Contact = std::tuple<std::size_t, ContactView::Other, std::size_t>;  // i, kind, index
+  std::set<Contact> brute, reported;
   std::size_t largeSmall = 0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (std::size_t j = i + 1; j < p.size(); ++j) {
       const double reach = p.radius[i] + p.radius[j];
       if ((p.position[j] - p.position[i]).squaredNorm() < reach * reach) {
-        brute.insert({long(i), long(j)});
-        brute.insert({long(j), long(i)});  // seen from both sides
+        brute.insert({i, ContactView::Other::Particle, j});
+        brute.insert({j, ContactView::Other::Particle, i});  // seen from both sides
         if (p.radius[i] != p.radius[j]) ++largeSmall;
       }
     }
     for (std::size_t w = 0; w < sim.walls().size(); ++w) {
       const Wall& wall = sim.walls()[w];
       if (p.radius[i] - (p.position[i] - wall.point).dot(wall.normal) > 0.0) {
-        brute.insert({long(i), -long(w) - 1});
+        brute.insert({i, ContactView::Other::Wall, w});
       }
     }
   }
   std::size_t views = 0;
   sim.forEachContact([&](const ContactView& c) {
-    reported.insert({long(c.particle), c.other});
+    reported.insert({c.particle, c.otherKind, c.otherIndex});
     ++views;
   });
   EXPECT_EQ(views, reported.size()) << when << ": a contact was reported twice";
   EXPECT_GE(largeSmall, largeSmallAtLeast) << when;
-  std::vector<std::pair<long, long>> missed, spurious;
+  std::vector<Contact> missed, spurious;
   std::set_difference(brute.begin(), brute.end(), reported.begin(), reported.end(),
                       std::back_inserter(missed));
   std::set_difference(reported.begin(), reported.end(), brute.begin(), brute.end(),
                       std::back_inserter(spurious));
-  EXPECT_TRUE(missed.empty()) << when << ": " << missed.size() << " contacts missed, first ("
-                              << (missed.empty() ? 0 : missed[0].first) << ", "
-                              << (missed.empty() ? 0 : missed[0].second) << ")";
+  if (!missed.empty()) {
+    const auto [i, kind, index] = missed[0];
+    ADD_FAILURE() << when << ": " << missed.size() << " contacts missed, first: particle " << i
+                  << " with " << (kind == ContactView::Other::Wall ? "wall " : "particle ")
+                  << index;
+  }
   EXPECT_TRUE(spurious.empty()) << when << ": " << spurious.size() << " spurious contacts";
 }
 
@@ -358,7 +363,7 @@ TEST(HardCase, SizeRatioTenContactSearchBalanceAndStressIdentity) {
   const Mat3 lhs = volume * volumeAveragedStress(sim, volume);
   Mat3 walls = Mat3::Zero();
   sim.forEachContact([&](const ContactView& c) {
-    if (c.other < 0) walls += c.force * c.point.transpose();
+    if (c.isWall()) walls += c.force * c.point.transpose();
   });
   Mat3 exact = walls, statics = walls;
   const std::vector<Vec3> net = sim.netContactForces();

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "granular/engine_studies.hpp"
 #include "granular/run_checks.hpp"
 #include "granular_process.hpp"
 #include "physics_fixtures.hpp"
@@ -81,7 +82,7 @@ TEST(EnergyRunChecks, BedAboveTheDampingLimitIsReportedOnceAndStoppedUnderStop) 
   for (double factor : {1.0, 8.0}) {
     for (CheckAction action : {CheckAction::Warn, CheckAction::Stop}) {
       Simulation sim = fallingGrid(5, 5, 6, cfg, 0.3);
-      sim.disableStepLimitForStudies(true);
+      studies::disableStepLimit(sim, true);
       Material m = cfg.material;
       m.tangentialDamping = factor * limit;
       sim.setMaterial(m);

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "physics_fixtures.hpp"
 
@@ -57,7 +59,7 @@ TEST(EnergyTangentialDamping, OneContactIsStableBelowItsRateLimitAndGrowsAbove) 
       Simulation sim = stuckSphere(integrator, slip);
       const double single =
           kTangentialContactsAtOnce * maxTangentialDamping(sim.config().timeStep, integrator);
-      sim.disableStepLimitForStudies(true);
+      studies::disableStepLimit(sim, true);
       Material m = sim.config().material;
       m.tangentialDamping = factor * single;
       sim.setMaterial(m);
@@ -119,7 +121,7 @@ TEST(EnergyTangentialDamping, BedHoldsItsBalanceAtTheLimitAndBreaksItAboveThePas
   for (double factor : {1.0, 4.0}) {
     cfg.material.tangentialDamping = 10.0;
     Simulation sim = fallingGrid(5, 5, 6, cfg, 0.3);
-    sim.disableStepLimitForStudies(true);
+    studies::disableStepLimit(sim, true);
     Material m = cfg.material;
     m.tangentialDamping = factor * limit;
     sim.setMaterial(m);
@@ -146,18 +148,19 @@ namespace {
 double dashpotRatePerGamma(const Simulation& sim) {
   struct Contact {
     std::size_t i;
-    long j;
+    std::optional<std::size_t> j;  ///< the other particle; none for a wall
     Vec3 n;
     double armI, armJ, mass;
   };
   const Particles& p = sim.particles();
   std::vector<Contact> contacts;
   sim.forEachContact([&](const ContactView& v) {
-    if (v.other >= 0 && std::size_t(v.other) < v.particle) return;  // each pair once
+    if (!v.isWall() && v.otherParticle() < v.particle) return;  // each pair once
     const Vec3 d = v.point - p.position[v.particle];
-    Contact c{v.particle, v.other, d.normalized(), d.norm(), 0.0, p.mass[v.particle]};
-    if (v.other >= 0) {
-      const std::size_t j = std::size_t(v.other);
+    Contact c{v.particle, std::nullopt, d.normalized(), d.norm(), 0.0, p.mass[v.particle]};
+    if (!v.isWall()) {
+      const std::size_t j = v.otherParticle();
+      c.j = j;
       c.armJ = (v.point - p.position[j]).norm();
       c.mass = p.mass[v.particle] * p.mass[j] / (p.mass[v.particle] + p.mass[j]);
     }
@@ -175,13 +178,13 @@ double dashpotRatePerGamma(const Simulation& sim) {
     std::fill(t.begin(), t.end(), Vec3::Zero());
     for (const Contact& c : contacts) {
       Vec3 slip = v[c.i] + c.armI * w[c.i].cross(c.n);
-      if (c.j >= 0) slip += -v[std::size_t(c.j)] + c.armJ * w[std::size_t(c.j)].cross(c.n);
+      if (c.j) slip += -v[*c.j] + c.armJ * w[*c.j].cross(c.n);
       const Vec3 force = -c.mass * (slip - slip.dot(c.n) * c.n);
       f[c.i] += force;
       t[c.i] += c.armI * c.n.cross(force);
-      if (c.j >= 0) {
-        f[std::size_t(c.j)] -= force;
-        t[std::size_t(c.j)] += c.armJ * c.n.cross(force);
+      if (c.j) {
+        f[*c.j] -= force;
+        t[*c.j] += c.armJ * c.n.cross(force);
       }
     }
     double along = 0, norm2 = 0;

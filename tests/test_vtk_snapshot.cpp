@@ -101,7 +101,7 @@ TEST(VtkSnapshot, ContactsAndWallsReadBackAndBalanceTheWallReactions) {
   // Every contact once: pairs seen from one side, walls once.
   std::size_t expected = 0;
   sim.forEachContact(
-      [&](const ContactView& c) { expected += c.other < 0 || std::size_t(c.other) > c.particle; });
+      [&](const ContactView& c) { expected += c.isWall() || c.otherParticle() > c.particle; });
   ASSERT_GT(expected, 10u);
   ASSERT_EQ(contacts->GetNumberOfLines(), vtkIdType(expected));
   vtkCellData* cells = contacts->GetCellData();

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <numbers>
+#include <utility>
 
 #include "granular/checkpoint.hpp"
 #include "granular/contact_theory.hpp"
@@ -241,18 +241,14 @@ void SimRunner::publish() {
   const Particles& p = sim.particles();
   s.centres = p.position;
   s.radii = p.radius;
-  // Σ|F| and σ33 per particle in one visit of the contacts.
-  s.forceSum.assign(p.size(), 0.0);
-  s.stress33.assign(p.size(), 0.0);
-  sim.forEachContact([&](const ContactView& c) {
-    s.forceSum[c.particle] += c.force.norm();
-    s.stress33[c.particle] += c.force.z() * (c.point.z() - p.position[c.particle].z());
-  });
+  // Σ|F| and σ33 per particle as the analysis layer defines them, from one visit of the contacts.
+  ParticleMeasures measures = particleMeasures(sim);
+  s.forceSum = std::move(measures.forceSums);
+  s.stress33.resize(p.size());
   s.speed.resize(p.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
+    s.stress33[i] = measures.stresses[i](2, 2);
     s.speed[i] = p.velocity[i].norm();
-    const double r = p.radius[i];
-    s.stress33[i] /= 4.0 / 3.0 * std::numbers::pi * r * r * r;
   }
   s.boxMin = scene_.box.min;
   s.boxMax = scene_.box.max;

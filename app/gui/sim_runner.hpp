@@ -37,8 +37,8 @@ struct Snapshot {
   std::vector<double> radii;     ///< [m]
   std::vector<double> forceSum;  ///< Σ_j |F_ij| per particle [N]
   std::vector<double> speed;     ///< |v| per particle [m/s]
-  /// σ33 of each particle, (1/V_i) Σ_c F_z (C_z − z_i) over its contacts, V_i its own volume
-  /// (4/3 π R_i³) [Pa]; compression negative, as in the paper.
+  /// σ33 of each particle, the zz entry of particleStresses: (1/V_i) Σ_c F_z (C_z − z_i) over its
+  /// contacts, V_i its own volume (4/3 π R_i³) [Pa]; compression negative, as in the paper.
   std::vector<double> stress33;
   Vec3 boxMin = Vec3::Zero(), boxMax = Vec3::Ones();  ///< [m]
   std::optional<double> topWallZ;                     ///< [m], once stage 2 placed it

@@ -61,8 +61,8 @@ WallBins sideWallStress(const Simulation& sim, const Box& box, int bins) {
   std::vector<bool> side(sim.walls().size(), false);
   for (const char* name : {"x-", "x+", "y-", "y+"}) side[sim.findWall(name)] = true;
   sim.forEachContact([&](const ContactView& c) {
-    if (c.other >= 0 || !side[static_cast<std::size_t>(-c.other - 1)]) return;
-    const Wall& wall = sim.walls()[static_cast<std::size_t>(-c.other - 1)];
+    if (!c.isWall() || !side[c.wall()]) return;
+    const Wall& wall = sim.walls()[c.wall()];
     const int k = std::clamp(static_cast<int>((c.point.z() - box.lo.z()) / dz), 0, bins - 1);
     w.normal[k] += c.force.dot(wall.normal);  // the wall pushes the material inwards
     w.shear[k] += c.force.z();

@@ -263,12 +263,12 @@ std::pair<double, double> meanRootOverlaps(const Simulation& sim) {
     // The contact point sits R_i - h/2 from the centre (docs/physics.md §2.2).
     const double h = 2.0 * (p.radius[c.particle] - (c.point - p.position[c.particle]).norm());
     if (h <= 0) return;
-    if (c.other >= 0) {
-      pairSum += std::sqrt(h);
-      ++pairs;
-    } else {
+    if (c.isWall()) {
       wallSum += std::sqrt(h);
       ++walls;
+    } else {
+      pairSum += std::sqrt(h);
+      ++pairs;
     }
   });
   return {pairs ? pairSum / pairs : 0.0, walls ? wallSum / walls : 0.0};

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "granular/checkpoint.hpp"
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "granular/scene.hpp"
 #include "granular/scene_fingerprint.hpp"
@@ -140,7 +141,7 @@ int run(const Options& o) {
   if (o.dt) sim.setTimeStep(*o.dt);
   if (o.skin) sim.setSkin(*o.skin);
   sim.setThreads(o.threads);
-  sim.setRebuildEveryStep(o.rebuildEveryStep);
+  studies::setRebuildEveryStep(sim, o.rebuildEveryStep);
 
   std::ofstream series;
   StageObserver observer;

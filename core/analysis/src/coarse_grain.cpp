@@ -71,10 +71,10 @@ CoarseGrainer::CoarseGrainer(const Simulation& sim, double width)
   std::vector<Segment> pairs, walls;
   sim.forEachContact([&](const ContactView& c) {
     const Vec3& xi = p.position[c.particle];
-    if (c.other < 0) {
+    if (c.isWall()) {
       walls.push_back({xi, c.point, c.force});
-    } else if (static_cast<std::size_t>(c.other) > c.particle) {  // each pair once, i < j
-      pairs.push_back({xi, p.position[static_cast<std::size_t>(c.other)], c.force});
+    } else if (c.otherParticle() > c.particle) {  // each pair once, i < j
+      pairs.push_back({xi, p.position[c.otherParticle()], c.force});
     }
   });
   for (const auto* list : {&pairs, &walls}) {

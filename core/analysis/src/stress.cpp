@@ -21,17 +21,24 @@ Mat3 volumeAveragedStress(const Simulation& sim, double volume) {
   return sum / volume;
 }
 
-std::vector<Mat3> particleStresses(const Simulation& sim) {
+ParticleMeasures particleMeasures(const Simulation& sim) {
   const Particles& p = sim.particles();
-  std::vector<Mat3> stress(p.size(), Mat3::Zero());
+  ParticleMeasures m;
+  m.stresses.assign(p.size(), Mat3::Zero());
+  m.forceSums.assign(p.size(), 0.0);
   sim.forEachContact([&](const ContactView& c) {
-    stress[c.particle] += c.force * (c.point - p.position[c.particle]).transpose();
+    m.stresses[c.particle] += c.force * (c.point - p.position[c.particle]).transpose();
+    m.forceSums[c.particle] += c.force.norm();
   });
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double r = p.radius[i];
-    stress[i] /= 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    m.stresses[i] /= 4.0 / 3.0 * std::numbers::pi * r * r * r;
   }
-  return stress;
+  return m;
+}
+
+std::vector<Mat3> particleStresses(const Simulation& sim) {
+  return particleMeasures(sim).stresses;
 }
 
 namespace {
@@ -59,9 +66,7 @@ std::pair<Vec3, Vec3> boxCorners(const Simulation& sim) {
 }  // namespace
 
 std::vector<double> particleForceSums(const Simulation& sim) {
-  std::vector<double> sums(sim.particles().size(), 0.0);
-  sim.forEachContact([&](const ContactView& c) { sums[c.particle] += c.force.norm(); });
-  return sums;
+  return particleMeasures(sim).forceSums;
 }
 
 BoxContactSums boxContactSums(const Simulation& sim) {
@@ -74,7 +79,7 @@ BoxContactSums boxContactSums(const Simulation& sim) {
   // `lower` is captured by copy explicitly: clang before 16 cannot capture a structured binding.
   sim.forEachContact([&, lower = lower](const ContactView& c) {
     sum += c.force * (c.point - p.position[c.particle]).transpose();
-    if (c.other < 0 && side[static_cast<std::size_t>(-c.other - 1)]) {
+    if (c.isWall() && side[c.wall()]) {
       sums.sideFrictionMoment += c.force.z() * (c.point.z() - lower.z());
     }
   });

@@ -44,8 +44,8 @@ RepresentativeStress representativeSphereStress(const Simulation& sim, const Vec
   }
   sim.forEachContact([&](const ContactView& c) {
     moment[c.particle] += c.force * (c.point - p.position[c.particle]).transpose();
-    if (c.other >= 0) {
-      const auto j = static_cast<std::size_t>(c.other);
+    if (!c.isWall()) {
+      const std::size_t j = c.otherParticle();
       const double d = (p.position[j] - p.position[c.particle]).norm();
       material[c.particle] -= 0.5 * lensVolume(p.radius[c.particle], p.radius[j], d);
     }

@@ -713,8 +713,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
         const Vec3 f = forceOf(chunk, e);
         force[i] += f;
         const Vec3 n = normalOf(chunk, e);
-        visit(i, -static_cast<long>(w) - 1, Vec3(p.position[i] + chunk.armI[e] * n), f, n,
-              chunk.overlap[e]);
+        visit(i, w, Vec3(p.position[i] + chunk.armI[e] * n), f, n, chunk.overlap[e],
+              ContactView::Other::Wall);
       }
     }
   }
@@ -758,11 +758,12 @@ int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop*
 void visitContacts(const SimulationState& s, const std::function<void(const ContactView&)>& visit,
                    std::vector<Vec3>* netForce) {
   std::vector<Vec3> force;
-  auto each = [&](std::uint32_t i, long other, const Vec3& point, const Vec3& f, const Vec3& n,
-                  double h) {
+  using Other = ContactView::Other;
+  auto each = [&](std::uint32_t i, std::size_t other, const Vec3& point, const Vec3& f,
+                  const Vec3& n, double h, Other kind = Other::Particle) {
     if (!visit) return;
-    visit(ContactView{i, other, point, f, n, h});
-    if (other >= 0) visit(ContactView{static_cast<std::size_t>(other), i, point, -f, -n, h});
+    visit(ContactView{i, kind, other, point, f, n, h});
+    if (kind == Other::Particle) visit(ContactView{other, Other::Particle, i, point, -f, -n, h});
   };
   withLaw(
       s, [&]<bool kFriction, NormalLaw kLaw>() { measuringPass<kFriction, kLaw>(s, force, each); });

@@ -72,7 +72,7 @@ struct GearCorrector {
 
 /// Gear over [b, e): the corrector (with accel), the predictor, or the one then the other; with
 /// x also the positions (translation), without only the velocity and its derivatives
-/// (rotation). Nonzero if a corrected position or velocity is not finite.
+/// (rotation). NotFinite::kCorrected if a corrected position or velocity is not finite.
 template <bool kPositions, bool kCorrect, bool kPredict>
 [[gnu::always_inline]] inline int gearLoop(double* __restrict x, double* __restrict v,
                                            double* __restrict d2, double* __restrict d3,
@@ -98,7 +98,7 @@ template <bool kPositions, bool kCorrect, bool kPredict>
     d4[k] = p4;
     if constexpr (kCorrect) d5[k] = p5;  // the predictor leaves it
   }
-  return probe != 0.0 ? 1 : 0;
+  return probe != 0.0 ? NotFinite::kCorrected : 0;
 }
 
 /// Velocity Verlet's two halves for one value. Drift: x += v Δt + a Δt²/2 (as two half kicks
@@ -119,8 +119,9 @@ struct VerletSteps {
   }
 };
 
-/// Verlet over [b, e): the kick (with accel), the drift, or the one then the other. Bit 0: a
-/// kicked velocity is not finite; bit 1: a drifted position.
+/// Verlet over [b, e): the kick (with accel), the drift, or the one then the other.
+/// NotFinite::kCorrected: a kicked velocity is not finite; NotFinite::kPredicted: a drifted
+/// position.
 template <bool kPositions, bool kKick, bool kDrift>
 [[gnu::always_inline]] inline int verletLoop(double* __restrict x, double* __restrict v,
                                              double* __restrict a, const double* __restrict accel,
@@ -143,7 +144,7 @@ template <bool kPositions, bool kKick, bool kDrift>
     v[k] = vk;
     if constexpr (kKick) a[k] = ak;
   }
-  return (kicked != 0.0 ? 1 : 0) | (drifted != 0.0 ? 2 : 0);
+  return (kicked != 0.0 ? NotFinite::kCorrected : 0) | (drifted != 0.0 ? NotFinite::kPredicted : 0);
 }
 
 }  // namespace
@@ -152,14 +153,14 @@ int overRanges(std::size_t n, int threads,
                const std::function<int(std::size_t, std::size_t)>& loop) {
   const int count = threads > 0 ? threads : omp_get_max_threads();
   if (count == 1) return loop(std::size_t{0}, n);
-  int broken = 0;
-#pragma omp parallel num_threads(count) reduction(| : broken)
+  int notFinite = 0;
+#pragma omp parallel num_threads(count) reduction(| : notFinite)
   {
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
     const std::size_t parts = static_cast<std::size_t>(omp_get_num_threads());
-    broken |= loop(n * t / parts, n * (t + 1) / parts);
+    notFinite |= loop(n * t / parts, n * (t + 1) / parts);
   }
-  return broken;
+  return notFinite;
 }
 
 FlatMotion FlatMotion::of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d) {

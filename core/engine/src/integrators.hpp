@@ -20,9 +20,20 @@ struct FlatMotion {
   static FlatMotion of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d);
 };
 
+/// Bits of the int the loops below return: which of the values they wrote came out not finite.
+/// Plain int bits, not an enum class, because overRanges and the force pass OR them over ranges
+/// and threads with OpenMP's `reduction(|)`.
+struct NotFinite {
+  /// A corrected (Gear) or kicked (Verlet) value: this step's state is broken.
+  static constexpr int kCorrected = 1 << 0;
+  /// A drifted position, Verlet's prediction for the next step (Gear's predictor checks none):
+  /// the next step's state is broken.
+  static constexpr int kPredicted = 1 << 1;
+};
+
 /// The integrators' loops over the values [b, e) of a motion (3 per particle). Each value is
-/// computed alone, so any split into ranges gives the same bits; each returns nonzero if a value
-/// it wrote is not finite (x·0 != 0 flags NaN and ±∞ in the same pass).
+/// computed alone, so any split into ranges gives the same bits; each returns its NotFinite bits
+/// (x·0 != 0 flags NaN and ±∞ in the same pass).
 int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e);
 int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                      std::size_t e);
@@ -30,8 +41,8 @@ int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e);
 /// A step's corrector (kick) and the next step's predictor (drift) in one loop over [b, e), the
-/// same bits as the two loops one after the other. Bit 0 of the result: a corrected value is
-/// not finite; bit 1: a predicted position (Verlet only; Gear's predictor checks nothing).
+/// same bits as the two loops one after the other. NotFinite::kCorrected: a corrected value is
+/// not finite; NotFinite::kPredicted: a predicted position (Verlet only).
 int gearCorrectPredictRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                             std::size_t e);
 int verletKickDriftRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
@@ -42,9 +53,10 @@ void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, con
                         const Vec3& g, std::size_t b, std::size_t e);
 
 /// Runs `loop(begin, end)` over [0, n) split into one contiguous range per thread (0: OpenMP's
-/// default count) and ORs what the ranges return; one thread runs it in place, with no parallel
-/// region. The loops are functions of a range rather than `omp parallel for` bodies because GCC
-/// does not vectorise an outlined parallel loop whose pointers come through OpenMP's shared data.
+/// default count) and ORs the NotFinite bits the ranges return; one thread runs it in place,
+/// with no parallel region. The loops are functions of a range rather than `omp parallel for`
+/// bodies because GCC does not vectorise an outlined parallel loop whose pointers come through
+/// OpenMP's shared data.
 int overRanges(std::size_t n, int threads,
                const std::function<int(std::size_t, std::size_t)>& loop);
 

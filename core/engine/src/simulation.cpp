@@ -270,18 +270,18 @@ void advance(SimulationState& s, bool predictNext) {
   } else {
     s.rangeMove2.assign(teams, 0.0);
     auto predict = [&](std::size_t b, std::size_t e) {
-      int broken = 0;
+      int notFinite = 0;  // NotFinite bits
       if (gear) {
         gearPredictRange(move, dt, 3 * b, 3 * e);
         if (rotating) gearPredictRange(turn, dt, 3 * b, 3 * e);
       } else {
-        broken = verletDriftRange(move, dt, 3 * b, 3 * e);
-        if (rotating) broken |= verletDriftRange(turn, dt, 3 * b, 3 * e);
+        notFinite = verletDriftRange(move, dt, 3 * b, 3 * e);
+        if (rotating) notFinite |= verletDriftRange(turn, dt, 3 * b, 3 * e);
       }
       moved(b, e);
-      return broken;
+      return notFinite;
     };
-    driftedFinite = overRanges(n, threads, predict) == 0;
+    driftedFinite = (overRanges(n, threads, predict) & NotFinite::kPredicted) == 0;
   }
   const double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
   // 2. Walls.
@@ -303,25 +303,25 @@ void advance(SimulationState& s, bool predictNext) {
     const double* accel = s.force.front().data();
     const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
     accelerationsRange(s.force, rotating ? &s.torque : nullptr, p, g, b, e);
-    int broken = 0;  // bit 0: this step's state; bit 1: the next step's prediction
+    int notFinite = 0;  // NotFinite bits: this step's state, the next step's prediction
     if (predictNext) {
       auto both = gear ? gearCorrectPredictRange : verletKickDriftRange;
-      broken |= both(move, accel, dt, 3 * b, 3 * e);
-      if (rotating) broken |= both(turn, angularAccel, dt, 3 * b, 3 * e);
+      notFinite |= both(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) notFinite |= both(turn, angularAccel, dt, 3 * b, 3 * e);
       moved(b, e);
     } else if (gear) {
-      broken |= gearCorrectRange(move, accel, dt, 3 * b, 3 * e);
-      if (rotating) broken |= gearCorrectRange(turn, angularAccel, dt, 3 * b, 3 * e);
+      notFinite |= gearCorrectRange(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) notFinite |= gearCorrectRange(turn, angularAccel, dt, 3 * b, 3 * e);
     } else {
-      broken |= verletKickRange(move, accel, dt, 3 * b, 3 * e);
-      if (rotating) broken |= verletKickRange(turn, angularAccel, dt, 3 * b, 3 * e);
+      notFinite |= verletKickRange(move, accel, dt, 3 * b, 3 * e);
+      if (rotating) notFinite |= verletKickRange(turn, angularAccel, dt, 3 * b, 3 * e);
     }
-    return broken;
+    return notFinite;
   };
-  const int broken = computeContactForces(s, dt, &correct);
+  const int notFinite = computeContactForces(s, dt, &correct);  // `correct`'s bits, ORed
   s.predictedAhead = predictNext;
-  s.predictedBroken = (broken & 2) != 0;
-  if ((broken & 1) != 0 || !driftedFinite) reportBrokenState(s);
+  s.predictedBroken = (notFinite & NotFinite::kPredicted) != 0;
+  if ((notFinite & NotFinite::kCorrected) != 0 || !driftedFinite) reportBrokenState(s);
   // 7. Bookkeeping.
   const ContactPowers& now = s.powers;
   EnergyAccumulators& e = s.energy;
@@ -380,9 +380,6 @@ bool Simulation::frictional() const {
 }
 const StepCounters& Simulation::counters() const {
   return state_->counters;
-}
-void Simulation::setRebuildEveryStep(bool on) {
-  state_->rebuildEveryStep = on;
 }
 void Simulation::setSkin(double skin) {
   require(std::isfinite(skin) && skin >= 0, "skin = " + str(skin) + " m: must be >= 0");
@@ -491,10 +488,6 @@ void Simulation::setIntegrator(Integrator integrator) {
     }
   }
   s.config.integrator = integrator;
-}
-
-void Simulation::disableStepLimitForStudies(bool off) {
-  state_->stepLimitDisabled = off;
 }
 
 void Simulation::setThreads(int threads) {

@@ -230,8 +230,9 @@ struct SimulationState {
   std::uint64_t stepsSinceOrigin = 0;
   std::uint64_t steps = 0;
   bool frictional = false;
+  /// The switches of granular/engine_studies.hpp (not checkpointed).
   bool rebuildEveryStep = false;
-  bool stepLimitDisabled = false;  ///< disableStepLimitForStudies (not checkpointed)
+  bool stepLimitDisabled = false;
   ContactScale contactScale;
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle

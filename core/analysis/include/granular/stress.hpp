@@ -23,6 +23,15 @@ std::vector<Mat3> particleStresses(const Simulation& sim);
 /// colour the particles by it) [N].
 std::vector<double> particleForceSums(const Simulation& sim);
 
+/// Both per-particle measures above from one evaluation of the contacts, for a caller that
+/// shows both (the GUI's colourings, the ParaView snapshots): the same values as the two calls,
+/// at the cost of one.
+struct ParticleMeasures {
+  std::vector<Mat3> stresses;     ///< σ^i, as particleStresses [Pa]
+  std::vector<double> forceSums;  ///< Σ_j |F_ij|, as particleForceSums [N]
+};
+ParticleMeasures particleMeasures(const Simulation& sim);
+
 /// The contact sums a box measurement needs; linear in the contact forces, so they may be
 /// averaged over time like the reactions.
 struct BoxContactSums {

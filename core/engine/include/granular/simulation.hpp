@@ -101,14 +101,26 @@ struct StepCounters {
 };
 
 /// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
-/// per-contact files.
+/// per-contact files. The other body is a particle j or a wall: ask isWall(), then read
+/// otherParticle() or wall().
 struct ContactView {
-  std::size_t particle = 0;  ///< i
-  long other = -1;           ///< j >= 0 for a particle, or -(wall index) - 1 for a wall
-  Vec3 point;                ///< contact point C_ij [m]
-  Vec3 force;                ///< F_ij, force on i [N]
-  Vec3 normal;               ///< unit normal from i towards j, or out of i into the wall [-]
-  double overlap = 0;        ///< h > 0 [m]
+  /// What particle i touches.
+  enum class Other : std::uint8_t { Particle, Wall };
+
+  std::size_t particle = 0;           ///< i
+  Other otherKind = Other::Particle;  ///< a particle or a wall
+  /// The other body's index: j in Simulation::particles(), or the wall's in walls().
+  std::size_t otherIndex = 0;
+  Vec3 point;          ///< contact point C_ij [m]
+  Vec3 force;          ///< F_ij, force on i [N]
+  Vec3 normal;         ///< unit normal from i towards j, or out of i into the wall [-]
+  double overlap = 0;  ///< h > 0 [m]
+
+  bool isWall() const { return otherKind == Other::Wall; }
+  /// j, for a contact with a particle (!isWall()).
+  std::size_t otherParticle() const { return otherIndex; }
+  /// The wall's index in Simulation::walls(), for a contact with a wall (isWall()).
+  std::size_t wall() const { return otherIndex; }
 };
 
 struct SimulationState;  // private: core/engine/src/simulation_state.hpp
@@ -154,9 +166,6 @@ class Simulation {
   /// a new simulation does. Refused (ConfigError) if the current step is above the new
   /// integrator's limit.
   void setIntegrator(Integrator integrator);
-  /// For stability studies only (bench/bench_gear_stability.cpp): with `off`, time steps above
-  /// maxStableStep are accepted from now on; results may then be garbage. Not checkpointed.
-  void disableStepLimitForStudies(bool off);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
   /// Sets a wall's prescribed velocity [m/s].
@@ -182,8 +191,6 @@ class Simulation {
   /// forEachContact [N].
   std::vector<Vec3> netContactForces() const;
 
-  /// Testing aid: rebuild the neighbour list every step (history must survive rebuilds).
-  void setRebuildEveryStep(bool on);
   /// Neighbour-list skin [m] (>= 0; 0 picks 0.3 × the smallest radius). A performance knob
   /// only: the list is rebuilt at the next step with the contact history kept, and the contact
   /// forces do not depend on it (tests/test_simulation.cpp).
@@ -197,7 +204,8 @@ class Simulation {
   std::uint64_t stateHash() const;
 
  private:
-  friend struct SimulationAccess;  // checkpoint I/O (core/engine/src/checkpoint.cpp)
+  friend struct SimulationAccess;   // checkpoint I/O (core/engine/src/checkpoint.cpp)
+  friend struct SimulationStudies;  // the switches of granular/engine_studies.hpp
   explicit Simulation(std::unique_ptr<SimulationState> state);
   std::unique_ptr<SimulationState> state_;
 };

@@ -1,0 +1,20 @@
+#pragma once
+/// Switches for tests, benchmarks and numerical studies, kept out of Simulation's public API: a
+/// program built on granular has no use for them, and one of them lets the engine produce
+/// garbage. Neither is checkpointed: a restored Simulation starts with both off.
+#include "granular/simulation.hpp"
+
+namespace granular::studies {
+
+/// With `on`, the neighbour list is rebuilt at every step instead of when particles or walls
+/// have moved more than the skin allows: the contact forces are the same (the tests check that
+/// the contact history survives rebuilds), only the cost changes (benchmarks time a rebuild).
+void setRebuildEveryStep(Simulation& sim, bool on);
+
+/// With `off`, time steps above maxStableStep and tangential damping above maxTangentialDamping
+/// are accepted from now on (setTimeStep, setMaterial, setIntegrator); results may then be
+/// garbage. For the stability studies that measure those limits
+/// (bench/bench_gear_stability.cpp) and the tests that go past them on purpose.
+void disableStepLimit(Simulation& sim, bool off);
+
+}  // namespace granular::studies

@@ -1,0 +1,25 @@
+/// The switches of engine_studies.hpp: they set flags of the state that the step and the
+/// setters read (simulation.cpp).
+#include "granular/engine_studies.hpp"
+
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// The one way in from the studies' functions to the state (a friend of Simulation).
+struct SimulationStudies {
+  static SimulationState& state(Simulation& sim) { return *sim.state_; }
+};
+
+namespace studies {
+
+void setRebuildEveryStep(Simulation& sim, bool on) {
+  SimulationStudies::state(sim).rebuildEveryStep = on;
+}
+
+void disableStepLimit(Simulation& sim, bool off) {
+  SimulationStudies::state(sim).stepLimitDisabled = off;
+}
+
+}  // namespace studies
+}  // namespace granular
