@@ -669,7 +669,8 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
 // ---- 3. The measuring pass ----------------------------------------------------------------
 
 /// Every contact at the current state, serially and without advancing any spring: forces go to
-/// `force`, and `visit(i, other, point, F, n, h)` sees each contact once.
+/// `force`, and `visit(i, other, point, F, n, h[, kind])` sees each contact once (kind: a wall;
+/// by default the other is a particle).
 template <bool kFriction, NormalLaw kLaw, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
   const SimulationState& s = state;
@@ -697,8 +698,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       force[i] += f;
       force[j] -= f;
       const Vec3 n = normalOf(chunk, e);
-      visit(i, static_cast<long>(j), Vec3(p.position[i] + chunk.armI[e] * n), f, n,
-            chunk.overlap[e]);
+      visit(i, j, Vec3(p.position[i] + chunk.armI[e] * n), f, n, chunk.overlap[e]);
     }
   }
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
