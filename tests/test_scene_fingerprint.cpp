@@ -4,6 +4,7 @@
 /// changed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -152,6 +153,13 @@ TEST_F(SceneFingerprintTest, ACheckpointIsRefusedNamingWhatChanged) {
   EXPECT_NE(message.find("the scene no longer has stages[1]"), std::string::npos) << message;
 }
 
+/// The terms that carry history (the checkpoint's layout list).
+std::size_t historyTermCount() {
+  std::size_t n = 0;
+  for (const TermSpec& t : contactTerms()) n += t.history.empty() ? 0 : 1;
+  return n;
+}
+
 TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   // A version-3 file: no parts before the state, the scene file's hash in the header.
   const fs::path checkpoint = checkpointOfTheScene();
@@ -170,6 +178,14 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
     end += 8 + length + 8;
   }
   bytes.erase(bytes.begin() + std::ptrdiff_t(header), bytes.begin() + std::ptrdiff_t(end));
+  // The history layout, new in 5: (count, then per term its name and slot count) before the
+  // pairs; found by the tangential spring's name.
+  const std::string name = "tangential_spring";
+  const auto at = std::search(bytes.begin(), bytes.end(), name.begin(), name.end());
+  ASSERT_NE(at, bytes.end());
+  ASSERT_EQ(historyTermCount(), 1u) << "the conversion below cuts a one-term layout";
+  ASSERT_EQ(kHistorySlots, 4u) << "version 3 holds 4 slots a contact";
+  bytes.erase(at - 16, at + std::ptrdiff_t(name.size()) + 8);
   // And the material's (key, value) pairs, new in 5, then the no-pull flag before them, new in
   // 4: the payload's last bytes (before the 8-byte checksum).
   std::size_t material = 8;

@@ -59,9 +59,30 @@ template <class Io>
 void fields(Io& io, Wall& w) {
   io(w.name), io(w.point), io(w.normal), io(w.velocity), io(w.reaction), io(w.impulse);
 }
+/// One term's run of history slots as a file lays them out (format 5 stores the list; older
+/// files hold the tangential spring's four alone).
+struct HistoryTerm {
+  std::string term;
+  std::uint64_t slots = 0;
+};
+
 template <class Io>
-void fields(Io& io, TangentialHistory& h) {
-  io(h.stretch), io(h.stiffness);
+void fields(Io& io, HistoryTerm& t) {
+  io(t.term), io(t.slots);
+}
+
+template <class Io>
+void fields(Io& io, ContactHistory& h) {
+  io.history(h);
+}
+
+/// The terms with history slots, in the order a ContactHistory holds them.
+std::vector<HistoryTerm> historyLayout() {
+  std::vector<HistoryTerm> layout;
+  for (const TermSpec& t : contactTerms()) {
+    if (!t.history.empty()) layout.push_back({std::string(t.name), t.history.size()});
+  }
+  return layout;
 }
 
 // ---- Byte streams: one call operator per direction, the same field order ------------------
@@ -87,6 +108,11 @@ class Writer {
     }
   }
   const std::vector<char>& bytes() const { return bytes_; }
+  /// A contact's history: every slot, in this build's layout (historyLayout).
+  void history(ContactHistory& h) {
+    for (double& x : h.slot) raw(x);
+  }
+  static constexpr std::uint32_t version() { return kCheckpointVersion; }
 
  private:
   template <class T>
@@ -100,8 +126,30 @@ class Writer {
 
 class Reader {
  public:
-  Reader(const char* data, std::size_t size, const std::string& file)
-      : data_(data), size_(size), file_(file) {}
+  Reader(const char* data, std::size_t size, const std::string& file, std::uint32_t version)
+      : data_(data), size_(size), file_(file), version_(version) {}
+  std::uint32_t version() const { return version_; }
+  /// The file's history layout, mapped onto this build's: each of the file's terms must be one
+  /// this build declares with as many slots; a term the file lacks keeps zero slots.
+  void setHistoryLayout(const std::vector<HistoryTerm>& layout) {
+    historyRuns_.clear();
+    for (const HistoryTerm& t : layout) {
+      const auto terms = contactTerms();
+      const auto it = std::find_if(terms.begin(), terms.end(),
+                                   [&](const TermSpec& spec) { return spec.name == t.term; });
+      if (it == terms.end() || it->history.size() != t.slots) {
+        corrupted("its contacts carry the history of a term '" + printable(t.term) + "' with " +
+                  std::to_string(t.slots) +
+                  " slots, which this build's contact model does not declare");
+      }
+      historyRuns_.push_back({it->historyOffset, it->history.size()});
+    }
+  }
+  void history(ContactHistory& h) {
+    for (const auto& [offset, count] : historyRuns_) {
+      for (std::size_t k = 0; k < count; ++k) raw(h.slot[offset + k]);
+    }
+  }
   template <class T>
   void operator()(T& value) {
     if constexpr (std::is_same_v<T, Vec3>) {
@@ -163,6 +211,8 @@ class Reader {
   const char* data_;
   std::size_t size_;
   std::string file_;
+  std::uint32_t version_;
+  std::vector<std::pair<std::size_t, std::size_t>> historyRuns_;  ///< (offset, slots) per term
   std::size_t pos_ = 0;
 };
 
@@ -186,7 +236,13 @@ void fields(Io& io, SimulationState& s) {
   // The file holds a spring per candidate pair (zero for those holding none): the layout in
   // memory (pair_springs.hpp) depends on the particle blocks, derived data built on loading.
   // Likewise the first particle of each pair, which memory holds as rows.
-  std::vector<TangentialHistory> history;
+  std::vector<HistoryTerm> layout = historyLayout();
+  if constexpr (std::is_same_v<Io, Reader>) {
+    if (io.version() < 5) layout = {{std::string(TangentialSpring::name), 4}};
+  }
+  if (io.version() >= 5) io(layout);
+  if constexpr (std::is_same_v<Io, Reader>) io.setHistoryLayout(layout);
+  std::vector<ContactHistory> history;
   std::vector<std::uint32_t> first;
   if constexpr (std::is_same_v<Io, Writer>) {
     history = perPairSprings(n);
@@ -358,7 +414,7 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
   if (checksum != fnv1a(bytes.data() + pos, payloadBytes)) {
     throw CheckpointError(name + ": corrupted checkpoint: checksum mismatch");
   }
-  Reader r(bytes.data() + pos, payloadBytes, name);
+  Reader r(bytes.data() + pos, payloadBytes, name, version);
   std::vector<StoredPart> parts;
   if (version >= 4) r(parts);
   if (expected.header != 0 && fingerprint != expected.header) {

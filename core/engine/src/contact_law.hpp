@@ -62,8 +62,9 @@ struct ContactChunk {
   alignas(64) double radius[kChunk], mass[kChunk];        ///< R_ij [m], m_ij [kg]
   alignas(64) double vx[kChunk], vy[kChunk], vz[kChunk];  ///< v_i - v_other [m/s]
   alignas(64) double cx[kChunk], cy[kChunk], cz[kChunk];  ///< contact-point velocity [m/s]
-  // Tangential spring: the stored one in, the advanced one out.
-  alignas(64) double sx[kChunk], sy[kChunk], sz[kChunk], stiffness[kChunk];
+  // The contact's history, every term's slots (ContactHistory): the stored one in, the advanced
+  // one out.
+  alignas(64) double history[kHistorySlots][kChunk];
   // Between the law's two loops (friction only): trial tangential force [N], tangential
   // velocity [m/s], k_t [N/m], Coulomb limit μ F_n [N].
   alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk];
@@ -125,6 +126,8 @@ template <bool kFriction>
 template <bool kFriction, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void contactLaw(const ContactConstants& constants, ContactChunk& c,
                                               std::size_t count) {
+  // The tangential spring's history slots: stretch x, y, z and the last k_t.
+  double(*const spring)[kChunk] = c.history + kHistoryOffset<TangentialSpring>;
   // Two loops rather than one: each iteration's chain of roots and divisions is long (the
   // spring's rotation, k_t, then the Coulomb scaling), and with the loop split the CPU overlaps
   // more contacts' chains.
@@ -146,11 +149,11 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
     if constexpr (kFriction) {
       const double cn = c.cx[k] * nx + c.cy[k] * ny + c.cz[k] * nz;
       const double vtx = c.cx[k] - cn * nx, vty = c.cy[k] - cn * ny, vtz = c.cz[k] - cn * nz;
-      double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
+      double sx = spring[0][k], sy = spring[1][k], sz = spring[2][k];
       const double length2 = TangentialSpring::turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz,
                                                                         constants.dt, sx, sy, sz);
       const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient, radius, h);
-      c.stiffnessWork[k] = kAdvance ? 0.5 * (kt - c.stiffness[k]) * length2 : 0.0;
+      c.stiffnessWork[k] = kAdvance ? 0.5 * (kt - spring[3][k]) * length2 : 0.0;
       // The trial force, before the Coulomb cap: the spring's, then the dashpot's.
       double tx = -kt * sx, ty = -kt * sy, tz = -kt * sz;
       c.tangentialDampingPower[k] =
@@ -158,9 +161,9 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       c.tx[k] = tx;
       c.ty[k] = ty;
       c.tz[k] = tz;
-      c.sx[k] = sx;
-      c.sy[k] = sy;
-      c.sz[k] = sz;
+      spring[0][k] = sx;
+      spring[1][k] = sy;
+      spring[2][k] = sz;
       c.vtx[k] = vtx;
       c.vty[k] = vty;
       c.vtz[k] = vtz;
@@ -172,7 +175,7 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
 #pragma omp simd
     for (std::size_t k = 0; k < count; ++k) {
       double tx = c.tx[k], ty = c.ty[k], tz = c.tz[k];
-      double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
+      double sx = spring[0][k], sy = spring[1][k], sz = spring[2][k];
       const double kt = c.kt[k];
       const bool sliding = TangentialSpring::cap(c.limit[k], kt, tx, ty, tz, sx, sy, sz);
       const double dampingPower = c.tangentialDampingPower[k];
@@ -180,10 +183,10 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       c.tangentialPower[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];
       c.elasticTangential[k] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
       if constexpr (kAdvance) {
-        c.sx[k] = sx;
-        c.sy[k] = sy;
-        c.sz[k] = sz;
-        c.stiffness[k] = kt;
+        spring[0][k] = sx;
+        spring[1][k] = sy;
+        spring[2][k] = sz;
+        spring[3][k] = kt;
       }
       const double fx = c.fx[k] + tx, fy = c.fy[k] + ty, fz = c.fz[k] + tz;
       c.fx[k] = fx;

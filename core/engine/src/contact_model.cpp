@@ -75,9 +75,16 @@ std::vector<ParameterSpec> tableOf(TermList<Terms...>) {
   return out;
 }
 
+template <class T>
+TermSpec termSpecOf() {
+  TermSpec t{T::name, T::history, kHistoryOffset<T>, nullptr, T::energy, T::stableStep};
+  if constexpr (requires { T::historyProblem(nullptr); }) t.historyProblem = &T::historyProblem;
+  return t;
+}
+
 template <class... Terms>
 std::vector<TermSpec> termsOf(TermList<Terms...>) {
-  return {TermSpec{Terms::name, Terms::history, Terms::energy, Terms::stableStep}...};
+  return {termSpecOf<Terms>()...};
 }
 
 /// "name" with its quotes, appended piece by piece: GCC 12 warns falsely (-Wrestrict) on

@@ -165,12 +165,9 @@ inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourL
   return m;
 }
 
-/// Copies a contact's stored tangential spring into entry e of the chunk.
-inline void loadSpring(const TangentialHistory& spring, ContactChunk& c, std::size_t e) {
-  c.sx[e] = spring.stretch.x();
-  c.sy[e] = spring.stretch.y();
-  c.sz[e] = spring.stretch.z();
-  c.stiffness[e] = spring.stiffness;
+/// Copies a contact's stored history (every term's slots) into entry e of the chunk.
+inline void loadSpring(const ContactHistory& history, ContactChunk& c, std::size_t e) {
+  for (std::size_t k = 0; k < kHistorySlots; ++k) c.history[k][e] = history.slot[k];
 }
 
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
@@ -257,9 +254,11 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
-/// The advanced spring of the chunk's entry e.
-inline TangentialHistory springOf(const ContactChunk& c, std::size_t e) {
-  return {Vec3(c.sx[e], c.sy[e], c.sz[e]), c.stiffness[e]};
+/// The advanced history of the chunk's entry e.
+inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
+  ContactHistory history;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) history.slot[k] = c.history[k][e];
+  return history;
 }
 
 void addPowers(ContactPowers& sum, const ContactPowers& part) {
@@ -344,18 +343,18 @@ void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
 /// the `read`-th one is source[read - sourceOffset]; the advanced springs of the pairs that
 /// touch now are written to the array's front, `written` of them so far.
 struct SpringCursor {
-  std::vector<TangentialHistory>* array = nullptr;
-  const TangentialHistory* source = nullptr;
+  std::vector<ContactHistory>* array = nullptr;
+  const ContactHistory* source = nullptr;
   std::size_t sourceOffset = 0, read = 0, written = 0, stored = 0;
   bool setAside = false;
 
-  void start(std::vector<TangentialHistory>& springs) {
+  void start(std::vector<ContactHistory>& springs) {
     array = &springs;
     source = springs.data();
     stored = springs.size();
   }
   /// Room for m new springs after those written, once the springs up to `read` are loaded.
-  TangentialHistory* write(std::size_t m, std::vector<TangentialHistory>& aside) {
+  ContactHistory* write(std::size_t m, std::vector<ContactHistory>& aside) {
     if (!setAside && written + m > read && read < stored) {
       aside.assign(array->begin() + static_cast<std::ptrdiff_t>(read),
                    array->begin() + static_cast<std::ptrdiff_t>(stored));
@@ -370,7 +369,7 @@ struct SpringCursor {
       array->resize(written + m);
       if (!setAside) source = array->data();  // what is left to read kept its place
     }
-    TangentialHistory* out = array->data() + written;
+    ContactHistory* out = array->data() + written;
     written += m;
     return out;
   }
@@ -392,7 +391,7 @@ template <bool kFriction, NormalLaw kLaw>
 class PlannedPass {
  public:
   /// `aside`: this thread's array for the springs of a block set aside (SpringCursor).
-  PlannedPass(SimulationState& s, double dt, std::vector<TangentialHistory>* aside)
+  PlannedPass(SimulationState& s, double dt, std::vector<ContactHistory>* aside)
       : s_(s),
         p_(s.particles),
         list_(s.neighbours),
@@ -434,7 +433,7 @@ class PlannedPass {
         at[m] = q;
         m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], chunk, m);
       }
-      loadPairs<kFriction>(p_, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+      loadPairs<kFriction>(p_, chunk, m, [&](std::size_t e) -> const ContactHistory& {
         return scratch_.crossingSpring[at[e]];
       });
       kern_.geometry(chunk, m, kFriction);
@@ -467,11 +466,11 @@ class PlannedPass {
       const std::size_t count = std::min(kChunk, end - begin);
       std::size_t m = 0;
       if constexpr (kFriction) {
-        const TangentialHistory* spring[kChunk];  // each touching pair's stored spring
+        const ContactHistory* spring[kChunk];  // each touching pair's stored spring
         // Locals, not the cursor's fields, which the chunk's stores might alias for the compiler.
         const std::uint64_t heldBefore = *heldWord;
         std::uint64_t heldNow = 0;  // a contact that opened forgets its spring
-        const TangentialHistory* next = springs.source + (springs.read - springs.sourceOffset);
+        const ContactHistory* next = springs.source + (springs.read - springs.sourceOffset);
         std::size_t read = 0;
         std::uint32_t starts[RowWalker::kMaxRun];
         std::uint32_t i = rows.mark(begin, count, starts);
@@ -489,11 +488,11 @@ class PlannedPass {
         *heldWord++ = heldNow;
         springs.read += read;
         loadPairs<kFriction>(p_, chunk, m,
-                             [&](std::size_t e) -> const TangentialHistory& { return *spring[e]; });
+                             [&](std::size_t e) -> const ContactHistory& { return *spring[e]; });
       } else {
         m = pickTouchingPairs(p_, list_, begin, count, rows, chunk);
         loadPairs<kFriction>(p_, chunk, m,
-                             [](std::size_t) -> const TangentialHistory& { return kNoSpring; });
+                             [](std::size_t) -> const ContactHistory& { return kNoSpring; });
       }
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true);
@@ -535,7 +534,7 @@ class PlannedPass {
         if constexpr (kFriction) s_.torque[current] = torqueI;
       }
       if constexpr (kFriction) {
-        TangentialHistory* out = springs.write(m, *aside_);
+        ContactHistory* out = springs.write(m, *aside_);
         for (std::size_t e = 0; e < m; ++e) out[e] = springOf(chunk, e);
       }
     }
@@ -582,7 +581,7 @@ class PlannedPass {
     if constexpr (kFriction) {  // the examined candidates forget their springs, then keep these
       for (const CandidateSpan& span : spans_) {
         std::fill(list_.wallHistory[span.wall].begin() + span.begin,
-                  list_.wallHistory[span.wall].begin() + span.end, TangentialHistory{});
+                  list_.wallHistory[span.wall].begin() + span.end, ContactHistory{});
       }
       for (std::size_t e = 0; e < m; ++e) {
         list_.wallHistory[chunk.wall[e]][chunk.slot[e]] = springOf(chunk, e);
@@ -599,7 +598,7 @@ class PlannedPass {
   const ContactConstants constants_;
   const ChunkKernels kern_;
   const std::size_t walls_;
-  std::vector<TangentialHistory>* const aside_;
+  std::vector<ContactHistory>* const aside_;
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
@@ -687,7 +686,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
     const std::size_t count = std::min(kChunk, pairs - begin);
     const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
-    loadPairs<kFriction>(p, chunk, m, [&](std::size_t e) -> const TangentialHistory& {
+    loadPairs<kFriction>(p, chunk, m, [&](std::size_t e) -> const ContactHistory& {
       return springs->at(chunk.slot[e]);
     });
     kern.geometry(chunk, m, kFriction);

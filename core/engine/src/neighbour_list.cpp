@@ -131,10 +131,10 @@ std::size_t partnersOf(const CellGrid& grid, const Particles& p, double skin, st
 // ---- History merge ------------------------------------------------------------------------
 
 void carryWallHistory(const std::vector<std::uint32_t>& oldList,
-                      const std::vector<TangentialHistory>& oldHistory,
+                      const std::vector<ContactHistory>& oldHistory,
                       const std::vector<std::uint32_t>& newList,
-                      std::vector<TangentialHistory>& newHistory) {
-  newHistory.assign(newList.size(), TangentialHistory{});
+                      std::vector<ContactHistory>& newHistory) {
+  newHistory.assign(newList.size(), ContactHistory{});
   std::size_t a = 0;
   for (std::size_t b = 0; b < newList.size() && a < oldList.size(); ++b) {
     while (a < oldList.size() && oldList[a] < newList[b]) ++a;
@@ -258,13 +258,13 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   if (keepHistory) {
     list.springs = carryPairSprings(list, rowStart, second, blockPair, blockWord);
     list.wallHistory.resize(walls.size());
-    std::vector<std::vector<TangentialHistory>> wallHistory(walls.size());
+    std::vector<std::vector<ContactHistory>> wallHistory(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) {
       if (w < list.wallParticles.size()) {
         carryWallHistory(list.wallParticles[w], list.wallHistory[w], wallParticles[w],
                          wallHistory[w]);
       } else {
-        wallHistory[w].assign(wallParticles[w].size(), TangentialHistory{});
+        wallHistory[w].assign(wallParticles[w].size(), ContactHistory{});
       }
     }
     list.wallHistory = std::move(wallHistory);

@@ -4,12 +4,8 @@
 namespace granular {
 namespace {
 
-bool holdsSomething(const TangentialHistory& s) {
-  return s.stretch.x() != 0.0 || s.stretch.y() != 0.0 || s.stretch.z() != 0.0 || s.stiffness != 0.0;
-}
-
 /// Copies one block's springs into its array, with room for a few new contacts.
-void fillBlock(std::vector<TangentialHistory>& block, const std::vector<TangentialHistory>& found) {
+void fillBlock(std::vector<ContactHistory>& block, const std::vector<ContactHistory>& found) {
   block.reserve(found.size() + found.size() / 16 + 2);
   block.assign(found.begin(), found.end());
 }
@@ -46,15 +42,15 @@ void setHeld(std::vector<std::uint64_t>& held, const std::vector<std::uint32_t>&
 
 }  // namespace
 
-std::vector<TangentialHistory> perPairSprings(const NeighbourList& list) {
+std::vector<ContactHistory> perPairSprings(const NeighbourList& list) {
   if (list.springs.held.empty() || list.springs.block.empty()) return {};
-  std::vector<TangentialHistory> perPair(list.second.size());
+  std::vector<ContactHistory> perPair(list.second.size());
   SpringReader reader(list);
   for (std::size_t k = 0; k < perPair.size(); ++k) perPair[k] = reader.at(k);
   return perPair;
 }
 
-void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair) {
+void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair) {
   PairSprings& springs = list.springs;
   springs = PairSprings{};
   if (perPair.size() != list.second.size() || list.blockPair.back() != perPair.size()) {
@@ -64,11 +60,11 @@ void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>
   const std::size_t blocks = list.blockPair.size() - 1;
   springs.held.assign(list.blockWord.back(), 0);
   springs.block.resize(blocks);
-  std::vector<TangentialHistory> found;
+  std::vector<ContactHistory> found;
   for (std::size_t b = 0; b < blocks; ++b) {
     found.clear();
     for (std::size_t k = list.blockPair[b]; k < list.blockPair[b + 1]; ++k) {
-      if (!holdsSomething(perPair[k])) continue;
+      if (!perPair[k].holdsSomething()) continue;
       setHeld(springs.held, list.blockPair, list.blockWord, b, k);
       found.push_back(perPair[k]);
     }
@@ -94,14 +90,14 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
   std::size_t a = 0, oldBlock = 0, index = 0;
   auto skipPassedBlocks = [&] {
     while (oldBlock + 1 < old.blockPair.size() && a >= old.blockPair[oldBlock + 1]) {
-      std::vector<TangentialHistory>().swap(from.block[oldBlock]);  // passed: free it
+      std::vector<ContactHistory>().swap(from.block[oldBlock]);  // passed: free it
       ++oldBlock;
       index = 0;
     }
   };
   auto oldHeld = [&] { return holds(from.held, old.blockPair, old.blockWord, oldBlock, a); };
   if (oldPairs > 0) skipPassedBlocks();
-  std::vector<TangentialHistory> found;
+  std::vector<ContactHistory> found;
   for (std::size_t b = 0; b < blocks; ++b) {
     found.clear();
     for (std::size_t k = blockPair[b]; k < blockPair[b + 1]; ++k) {

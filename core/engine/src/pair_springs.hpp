@@ -12,7 +12,7 @@
 namespace granular {
 
 /// The spring of a pair that holds none: no stretch, no stiffness.
-inline const TangentialHistory kNoSpring{};
+inline const ContactHistory kNoSpring{};
 
 /// The bits below bit `bit` of a word.
 inline std::uint64_t bitsBelow(std::uint64_t word, std::size_t bit) {
@@ -35,7 +35,7 @@ inline HeldBit heldBit(const std::vector<std::uint32_t>& blockPair, std::size_t 
 class SpringReader {
  public:
   explicit SpringReader(const NeighbourList& list) : list_(list) {}
-  const TangentialHistory& at(std::size_t k) {
+  const ContactHistory& at(std::size_t k) {
     const std::vector<std::uint32_t>& blockPair = list_.blockPair;
     if (k >= blockPair[block_ + 1]) {
       do ++block_;
@@ -60,13 +60,13 @@ class SpringReader {
 
 /// One spring per candidate pair (kNoSpring for those holding none): the checkpoint's layout.
 /// Empty if the list holds no springs.
-std::vector<TangentialHistory> perPairSprings(const NeighbourList& list);
+std::vector<ContactHistory> perPairSprings(const NeighbourList& list);
 
 /// Lays out one spring per candidate pair (as perPairSprings gives them) into list.springs for
 /// the list's blocks; a pair holds its spring if any of its numbers is nonzero. If the count
 /// does not match the list's pairs (none at all: the frictionless path), `held` gets one word
 /// per given spring and no block (the state checks report a mismatch on a frictional path).
-void layOutPairSprings(NeighbourList& list, const std::vector<TangentialHistory>& perPair);
+void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair);
 
 /// The springs of the pairs of `old` that are also in the new list (rowStart, second, sorted,
 /// with its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays

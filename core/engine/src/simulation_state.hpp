@@ -8,17 +8,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "granular/contact_model.hpp"
 #include "granular/simulation.hpp"
 
 namespace granular {
 
 // ---- 1. Contact history -------------------------------------------------------------------
-
-/// Tangential spring of one contact, kept for the contact's life (physics.md §1).
-struct TangentialHistory {
-  Vec3 stretch = Vec3::Zero();  ///< ξ = ∫ v_t dt, rotated into the current tangent plane [m]
-  double stiffness = 0.0;       ///< k_t at the previous step, for the stiffness-work term [N/m]
-};
 
 /// How the force pass splits its work among threads (force_pass.cpp), derived from the lists
 /// and the thread count, rebuilt with them (not checkpointed).
@@ -58,7 +53,7 @@ struct ForcePlan {
 /// blockWord[b] + w. A word is one chunk of the force pass, whose thread owns it.
 struct PairSprings {
   std::vector<std::uint64_t> held;
-  std::vector<std::vector<TangentialHistory>> block;  ///< per particle block, ascending pair
+  std::vector<std::vector<ContactHistory>> block;  ///< per particle block, ascending pair
 };
 
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
@@ -79,7 +74,7 @@ struct NeighbourList {
   PairSprings springs;  ///< empty on the frictionless path
   /// Per wall: candidate particles (sorted) and their tangential history.
   std::vector<std::vector<std::uint32_t>> wallParticles;
-  std::vector<std::vector<TangentialHistory>> wallHistory;
+  std::vector<std::vector<ContactHistory>> wallHistory;
   /// Particle positions at the last build, rounded to single precision [m]: half the memory of
   /// doubles, the one array a list has per particle. The staleness test adds the rounding's
   /// bound, referenceRounding, to the largest move it measures from them, so that it never
@@ -203,10 +198,10 @@ struct ContactPowers {
 struct ContactScratch {
   /// Per crossing pair (friction only): its stored spring as it was before the pass, which the
   /// second particle's part reads while the first's part advances the stored one.
-  std::vector<TangentialHistory> crossingSpring;
+  std::vector<ContactHistory> crossingSpring;
   /// Per thread of the pass (friction only): the springs of its block not yet read when the
   /// block's new springs would overwrite them (force_pass.cpp, SpringCursor).
-  std::vector<std::vector<TangentialHistory>> springsSetAside;
+  std::vector<std::vector<ContactHistory>> springsSetAside;
   std::vector<ContactPowers> blockPowers;  ///< per particle block
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };

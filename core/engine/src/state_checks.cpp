@@ -135,10 +135,14 @@ void checkWalls(const Checker& c, const SimulationState& s) {
   }
 }
 
-void checkHistory(const Checker& c, const std::vector<TangentialHistory>& history) {
-  for (const TangentialHistory& h : history) {
-    c.finite(h.stretch, "a tangential spring");
-    c.nonNegative(h.stiffness, "a tangential stiffness");
+/// Every slot finite, and each term's own rule for its slots (contact_model.hpp).
+void checkHistory(const Checker& c, const std::vector<ContactHistory>& history) {
+  for (const ContactHistory& h : history) {
+    for (const double x : h.slot) c.finite(x, "a contact history slot");
+    for (const TermSpec& term : contactTerms()) {
+      if (!term.historyProblem) continue;
+      if (const char* problem = term.historyProblem(h.slot + term.historyOffset)) c.fail(problem);
+    }
   }
 }
 

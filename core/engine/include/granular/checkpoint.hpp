@@ -35,7 +35,9 @@ class CheckpointError : public std::runtime_error {
 ///    Material::noPull (one flag byte) at the end of the payload (versions 2 and 3: true).
 /// 5: every material parameter the contact model declares (granular/contact_model.hpp) as
 ///    (key, value) pairs after that flag: a parameter the file lacks keeps its default, one this
-///    build does not declare is refused by name.
+///    build does not declare is refused by name; and each contact's history as the terms'
+///    slots (ContactHistory), with the list of (term, slot count) before the pairs, so that a
+///    file is read into this build's layout by term (older files: the tangential spring's 4).
 /// Versions 2 to 4 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
 inline constexpr std::uint32_t kCheckpointVersion = 5;

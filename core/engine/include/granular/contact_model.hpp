@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -32,6 +33,38 @@ template <class... Terms>
 struct ParametersOf<TermList<Terms...>> : Terms::Parameters... {};
 
 struct Material;  // granular/material.hpp
+
+/// The per-contact history slots of all terms (doubles), and where term T's begin.
+template <class List>
+struct HistoryLayout;
+template <class... Terms>
+struct HistoryLayout<TermList<Terms...>> {
+  static constexpr std::size_t slots = (Terms::history.size() + ...);
+  template <class T>
+  static constexpr std::size_t offset() {
+    std::size_t at = 0;
+    bool found = false;
+    ((found = found || std::is_same_v<T, Terms>, at += found ? 0 : Terms::history.size()), ...);
+    return at;
+  }
+};
+inline constexpr std::size_t kHistorySlots = HistoryLayout<ContactModel>::slots;
+/// Where term T's history slots begin in a ContactHistory.
+template <class T>
+inline constexpr std::size_t kHistoryOffset = HistoryLayout<ContactModel>::template offset<T>();
+
+/// The history one contact carries for its life: every term's slots, zero for a new contact.
+/// Its size comes from the terms' declarations.
+struct ContactHistory {
+  double slot[kHistorySlots] = {};
+  /// True when some slot is nonzero (a contact with nothing to remember is not stored).
+  bool holdsSomething() const {
+    for (double x : slot) {
+      if (x != 0.0) return true;
+    }
+    return false;
+  }
+};
 
 /// One material parameter as every consumer sees it, whatever its term and type. Values travel
 /// as doubles: a choice as its name's position, a flag as 0 or 1.
@@ -60,6 +93,10 @@ struct ParameterSpec {
 struct TermSpec {
   std::string_view name;
   std::span<const std::string_view> history;
+  std::size_t historyOffset = 0;  ///< where its slots begin in a ContactHistory
+  /// The state checks' rule for its slots (nullptr: any finite values); returns why they are
+  /// not a state the term can reach, or nullptr.
+  const char* (*historyProblem)(const double* slot) = nullptr;
   std::span<const EnergyTerm> energy;
   std::string_view stableStep;
 };

@@ -30,7 +30,10 @@ struct TangentialSpring {
       NumberParameter<Parameters>{"shear_modulus", "G", "Pa", ValueRange::aboveUpTo(0, 1e12),
                                   "shear modulus", &Parameters::shearModulus},
   };
-  static constexpr std::string_view kHistory[] = {"stretch ξ (3) [m]", "stiffness k_t [N/m]"};
+  /// Per contact: the stretch ξ [m] (three slots, in the current tangent plane) and k_t at the
+  /// previous step [N/m], for the stiffness-work term.
+  static constexpr std::string_view kHistory[] = {"stretch_x", "stretch_y", "stretch_z",
+                                                  "stiffness"};
   static constexpr std::span<const std::string_view> history{kHistory};
   static constexpr EnergyTerm kEnergy[] = {
       {"elastic_tangential_J", EnergyKind::Stored, "Σ over contacts of ½ k_t |ξ|²"},
@@ -39,6 +42,14 @@ struct TangentialSpring {
        "work of k_t changing at fixed ξ (the √h spring is not conservative)"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
   static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
+
+  /// Why a stored history is not a state this term can have come to (nullptr: it can).
+  static const char* historyProblem(const double* slot) {
+    for (int k = 0; k < 4; ++k) {
+      if (!std::isfinite(slot[k])) return "a tangential spring is not finite";
+    }
+    return slot[3] >= 0.0 ? nullptr : "a tangential stiffness is negative";
+  }
 
   /// k_t = (8/3) G/(2−ν) √(R h) (coefficient: (8/3) G/(2−ν)) [N/m].
   [[gnu::always_inline]] static double stiffness(double coefficient, double radius, double h) {

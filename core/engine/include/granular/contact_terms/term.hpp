@@ -5,7 +5,9 @@
 ///     term's Parameters, so `material.friction` is the tangential spring's);
 ///   - `parameters`: a tuple of NumberParameter / ChoiceParameter / FlagParameter, one per
 ///     field: scene key, symbol, unit, allowed range, one-line doc;
-///   - `history`: the names of its per-contact history slots (none for a memoryless term);
+///   - `history`: the names of its per-contact history slots, one double each (none for a
+///     memoryless term); the model's ContactHistory holds every term's slots, and a term with
+///     slots also gives `historyProblem(const double* slot)`, the state checks' rule for them;
 ///   - `energy`: the energy terms it stores or dissipates (the ledger's columns);
 ///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
 ///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them).
