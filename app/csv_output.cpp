@@ -35,10 +35,10 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
                                    std::vector<std::string> walls)
     : file_(path), walls_(std::move(walls)) {
   std::ostringstream header;
-  header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J,elastic_normal_J,"
-            "elastic_tangential_J,dissipated_normal_J,dissipated_tangential_J,"
-            "dissipated_friction_J,tangential_stiffness_work_J,gravity_work_J,wall_work_J,"
-            "energy_total_J,contacts_particle_overlapping,contacts_wall_overlapping";
+  header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J";
+  for (const EnergyAccountSpec& column : energyColumns()) header << ',' << column.account.column;
+  header << ",gravity_work_J,wall_work_J,energy_total_J,contacts_particle_overlapping,"
+            "contacts_wall_overlapping";
   for (const std::string& wall : walls_) {
     for (const char* axis : {"x", "y", "z"}) {
       header << ",reaction_" << wall << '_' << axis << "_N";  // wall names need no quoting
@@ -57,12 +57,9 @@ void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
   const StepCounters& c = sim.counters();
   std::ostringstream row;
   row << csvField(stage) << ',' << csvNumber(sim.time()) << ',' << sim.stepCount();
-  for (double value :
-       {e.kineticTranslational, e.kineticRotational, e.elasticNormal, e.elasticTangential,
-        e.dissipatedNormal, e.dissipatedTangential, e.dissipatedFriction, e.tangentialStiffnessWork,
-        e.gravityWork, e.wallWork, e.total()}) {
-    row << ',' << csvNumber(value);
-  }
+  row << ',' << csvNumber(e.kineticTranslational) << ',' << csvNumber(e.kineticRotational);
+  for (const EnergyAccount& account : e.contact) row << ',' << csvNumber(account.value);
+  for (double value : {e.gravityWork, e.wallWork, e.total()}) row << ',' << csvNumber(value);
   row << ',' << c.particleContacts << ',' << c.wallContacts;
   for (const std::string& wall : walls_) {
     const long index = sim.findWall(wall);

@@ -39,7 +39,8 @@ struct Observed {
 Observed observe(const Simulation& sim) {
   double reaction = 0.0;
   for (const Wall& w : sim.walls()) reaction += w.reaction.norm();
-  return {sim.stateHash(), sim.energy().dissipatedNormal + sim.energy().dissipatedTangential,
+  return {sim.stateHash(),
+          sim.energy().of("dissipated_normal_J") + sim.energy().of("dissipated_tangential_J"),
           reaction, sim.counters().rebuilds, sim.counters().particleContacts};
 }
 

@@ -38,7 +38,7 @@ TEST(Checkpoint, RestartContinuesBitForBit) {
     const std::size_t top = first.addWall(Wall{"top", Vec3(0, 0, 0.9), Vec3(0, 0, -1)});
     first.setWallVelocity(top, Vec3(0, 0, -0.01));
     first.run(100);
-    ASSERT_GT(first.energy().elasticTangential, 0.0);
+    ASSERT_GT(first.energy().of("elastic_tangential_J"), 0.0);
     const auto file = tempFile("restart.ckpt");
     writeCheckpoint(first, file, 42);
     Simulation restarted = readCheckpoint(file, 42);

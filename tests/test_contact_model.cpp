@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
@@ -190,6 +191,54 @@ TEST(ContactModel, TheFingerprintChangesWithEveryDeclaredParameter) {
     EXPECT_NE(materialPart("[material]\n" + std::string(p.key) + " = " + text + "\n"), plain);
   }
   std::filesystem::remove_all(dir);
+}
+
+TEST(ContactModel, TheEnergyLedgerAndItsColumnsAreTheDeclaredAccounts) {
+  SimulationConfig cfg;
+  cfg.material.friction = 0.3;
+  cfg.timeStep = 1e-4;
+  Simulation sim = testing::fallingGrid(2, 2, 2, cfg, 0.5);
+  sim.run(4000);  // 0.4 s: fallen, bounced and slid on the floor
+  const EnergyBalance e = sim.energy();
+  // One account per declared account that is a column, in energyColumns()'s order.
+  const auto columns = energyColumns();
+  ASSERT_EQ(e.contact.size(), columns.size());
+  std::size_t declared = 0;
+  for (const EnergyAccountSpec& a : energyAccounts())
+    declared += a.account.kind != EnergyKind::Work;
+  EXPECT_EQ(columns.size(), declared);
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    EXPECT_EQ(e.contact[k].column, columns[k].account.column);
+    EXPECT_EQ(e.contact[k].kind, columns[k].account.kind);
+    if (k > 0) {
+      EXPECT_LE(int(columns[k - 1].account.kind), int(columns[k].account.kind));
+    }
+  }
+  // total() adds each kind with its sign.
+  const double bySign = e.kinetic() + e.sum(EnergyKind::Stored) + e.sum(EnergyKind::Dissipated) +
+                        e.sum(EnergyKind::Slip) - e.sum(EnergyKind::Supplied) - e.gravityWork -
+                        e.wallWork;
+  EXPECT_NEAR(e.total(), bySign, 1e-12 * std::abs(e.gravityWork));
+  EXPECT_GT(e.of("dissipated_friction_J"), 0.0);  // the bed slid: the accounts are live
+  // The time series' header names the same columns in the same order.
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() /
+      ("granular_contact_model_series_" + std::to_string(::getpid()) + ".csv");
+  {
+    app::TimeSeriesWriter series(file, {});
+    series.write("settle", sim);
+  }
+  std::ifstream in(file);
+  std::string header;
+  std::getline(in, header);
+  std::filesystem::remove(file);
+  std::size_t at = header.find("kinetic_rotational_J");
+  ASSERT_NE(at, std::string::npos);
+  for (const EnergyAccountSpec& c : columns) {
+    const std::size_t next = header.find("," + std::string(c.account.column) + ",", at);
+    EXPECT_NE(next, std::string::npos) << c.account.column;
+    at = next;
+  }
 }
 
 TEST(ContactModel, TheGuiScriptSetsEveryDeclaredNumberParameter) {

@@ -37,8 +37,8 @@ TEST(EnergyNoPull, HookeImpactRunsTheDampedOscillatorUntilTheOverlapCloses) {
     EXPECT_NEAR(m.overlapDuration, expect.overlapDuration, 1e-3 * expect.overlapDuration) << what;
     const double tolerance = noPull ? 1e-5 : spec.material.normalDamping * spec.timeStep;
     EXPECT_LT(std::abs(sim.energy().total() - start), tolerance * kinetic) << what;
-    EXPECT_NEAR(sim.energy().dissipatedNormal, kinetic * (1 - m.restitution * m.restitution),
-                tolerance * kinetic)
+    EXPECT_NEAR(sim.energy().of("dissipated_normal_J"),
+                kinetic * (1 - m.restitution * m.restitution), tolerance * kinetic)
         << what;
     restitution[noPull ? 0 : 1] = m.restitution;
   }

@@ -119,10 +119,11 @@ TEST(EnergyRunChecks, WorkDoneCountsEveryFlowOnce) {
   EnergyBalance e;
   e.gravityWork = 4.0;
   e.wallWork = -1.0;
-  e.tangentialStiffnessWork = 0.5;
-  e.dissipatedNormal = 2.0;
-  e.dissipatedTangential = 0.25;
-  e.dissipatedFriction = -0.125;  // a remainder, of either sign
+  e.contact = {{"elastic_normal_J", EnergyKind::Stored, 16.0},  // held, not a flow
+               {"dissipated_normal_J", EnergyKind::Dissipated, 2.0},
+               {"dissipated_tangential_J", EnergyKind::Dissipated, 0.25},
+               {"dissipated_friction_J", EnergyKind::Slip, -0.125},  // a remainder, either sign
+               {"tangential_stiffness_work_J", EnergyKind::Supplied, 0.5}};
   EXPECT_EQ(RunChecks::workDone(e, 3.0), 3.0 + 4.0 + 1.0 + 0.5 + 2.0 + 0.25 + 0.125);
 }
 

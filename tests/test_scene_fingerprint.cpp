@@ -186,10 +186,13 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   ASSERT_EQ(historyTermCount(), 1u) << "the conversion below cuts a one-term layout";
   ASSERT_EQ(kHistorySlots, 4u) << "version 3 holds 4 slots a contact";
   bytes.erase(at - 16, at + std::ptrdiff_t(name.size()) + 8);
-  // And the material's (key, value) pairs, new in 5, then the no-pull flag before them, new in
+  // And the material's (key, value) pairs and the energy accounts, new in 5, then the no-pull
+  // flag before them, new in
   // 4: the payload's last bytes (before the 8-byte checksum).
   std::size_t material = 8;
   for (const auto& [key, value] : materialValues(Material{})) material += 8 + key.size() + 8;
+  material += 8;  // and after them the energy accounts by column, also new in 5
+  for (const EnergyAccountSpec& a : energyAccounts()) material += 8 + a.account.column.size() + 24;
   bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);

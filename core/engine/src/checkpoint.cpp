@@ -59,6 +59,18 @@ template <class Io>
 void fields(Io& io, Wall& w) {
   io(w.name), io(w.point), io(w.normal), io(w.velocity), io(w.reaction), io(w.impulse);
 }
+/// An energy account as the file holds it (format 5): its column, its value at the last force
+/// evaluation, its sum since the start, and (Stored) its value at the start.
+struct StoredAccount {
+  std::string column;
+  double now = 0, sinceStart = 0, initial = 0;
+};
+
+template <class Io>
+void fields(Io& io, StoredAccount& a) {
+  io(a.column), io(a.now), io(a.sinceStart), io(a.initial);
+}
+
 /// One term's run of history slots as a file lays them out (format 5 stores the list; older
 /// files hold the tangential spring's four alone).
 struct HistoryTerm {
@@ -144,6 +156,15 @@ class Reader {
       }
       historyRuns_.push_back({it->historyOffset, it->history.size()});
     }
+  }
+  /// The slot of the energy account with this column; a column this build does not declare is
+  /// refused by name.
+  std::size_t energySlot(std::string_view column) const {
+    for (const EnergyAccountSpec& a : energyAccounts()) {
+      if (a.account.column == column) return a.slot;
+    }
+    corrupted("it holds an energy account '" + printable(column) +
+              "', which this build's contact model does not declare");
   }
   void history(ContactHistory& h) {
     for (const auto& [offset, count] : historyRuns_) {
@@ -263,13 +284,34 @@ void fields(Io& io, SimulationState& s) {
   }
   io(reference), io(n.referenceWallPoint), io(n.skin), io(n.valid);
   if constexpr (std::is_same_v<Io, Reader>) setReferencePositions(n, reference);
+  // The paper's model's accounts by column, in the order versions 2 to 4 hold them (format 5
+  // adds every account by column at the end of the payload: energyAccountsIo).
   ContactPowers& w = s.powers;
-  io(w.elasticNormal), io(w.elasticTangential), io(w.normalDampingPower);
-  io(w.tangentialDampingPower), io(w.tangentialPower), io(w.stiffnessWork), io(w.wallPower);
-  io(w.particleContacts), io(w.wallContacts), io(w.tangentialEvaluations);
   EnergyAccumulators& e = s.energy;
-  io(e.dissipatedNormal), io(e.dissipatedTangential), io(e.tangentialWork), io(e.stiffnessWork);
-  io(e.wallWork), io(e.initialPotential), io(e.initialTangentialElastic);
+  double unused = 0;  // an account this model does not declare (written as 0, read and dropped)
+  auto slot = [&](std::string_view column) -> std::optional<std::size_t> {
+    for (const EnergyAccountSpec& a : energyAccounts()) {
+      if (a.account.column == column) return a.slot;
+    }
+    return std::nullopt;
+  };
+  auto now = [&](std::string_view column) -> double& {
+    const auto at = slot(column);
+    return at ? w.energy[*at] : (unused = 0);
+  };
+  auto since = [&](std::string_view column) -> double& {
+    const auto at = slot(column);
+    return at ? e.account[*at] : (unused = 0);
+  };
+  io(now("elastic_normal_J")), io(now("elastic_tangential_J")), io(now("dissipated_normal_J"));
+  io(now("dissipated_tangential_J")), io(now("tangential_work_J"));
+  io(now("tangential_stiffness_work_J")), io(w.wallPower);
+  io(w.particleContacts), io(w.wallContacts), io(w.tangentialEvaluations);
+  io(since("dissipated_normal_J")), io(since("dissipated_tangential_J"));
+  io(since("tangential_work_J")), io(since("tangential_stiffness_work_J"));
+  io(e.wallWork), io(e.initialPotential);
+  const auto tangential = slot("elastic_tangential_J");
+  io(tangential ? e.initialStored[*tangential] : (unused = 0));
   StepCounters& k = s.counters;
   io(k.particleContacts), io(k.wallContacts), io(k.neighbourPairs), io(k.rebuilds);
   io(k.tangentialEvaluations);
@@ -342,6 +384,12 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   std::vector<StoredParameter> material;  // version 5: every declared parameter
   for (auto& [key, value] : materialValues(state.config.material)) material.push_back({key, value});
   w(material);
+  std::vector<StoredAccount> accounts;  // version 5: every energy account by column
+  for (const EnergyAccountSpec& a : energyAccounts()) {
+    accounts.push_back({std::string(a.account.column), state.powers.energy[a.slot],
+                        state.energy.account[a.slot], state.energy.initialStored[a.slot]});
+  }
+  w(accounts);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -449,6 +497,14 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
                               "a build with another contact term?)");
       }
       spec->set(state->config.material, p.value);
+    }
+    std::vector<StoredAccount> accounts;
+    r(accounts);
+    for (const StoredAccount& a : accounts) {
+      const std::size_t slot = r.energySlot(a.column);
+      state->powers.energy[slot] = a.now;
+      state->energy.account[slot] = a.sinceStart;
+      state->energy.initialStored[slot] = a.initial;
     }
   }
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");

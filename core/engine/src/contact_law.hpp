@@ -70,12 +70,11 @@ struct ContactChunk {
   alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk];
   alignas(64) double vtx[kChunk], vty[kChunk], vtz[kChunk];
   alignas(64) double kt[kChunk], limit[kChunk];
-  // Outputs: force on i [N], n × F [N] (friction only), and this contact's share of each power.
+  // Outputs: force on i [N], n × F [N] (friction only), and this contact's value of each
+  // energy account (kEnergySlotTable: an energy, a power or an increment, by its kind).
   alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
   alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
-  alignas(64) double elasticNormal[kChunk], normalDampingPower[kChunk];
-  alignas(64) double elasticTangential[kChunk], tangentialDampingPower[kChunk];
-  alignas(64) double tangentialPower[kChunk], stiffnessWork[kChunk];
+  alignas(64) double energy[kEnergySlots][kChunk];
 };
 
 /// Pair geometry from the raw columns dx..mj of touching pairs (and the angular velocities with
@@ -128,6 +127,13 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
                                               std::size_t count) {
   // The tangential spring's history slots: stretch x, y, z and the last k_t.
   double(*const spring)[kChunk] = c.history + kHistoryOffset<TangentialSpring>;
+  // Each term's energy accounts, in the order the term declares them.
+  double* const normalStored = c.energy[kEnergyOffset<NormalElastic>];
+  double* const normalDashpot = c.energy[kEnergyOffset<NormalDamping>];
+  double* const tangentialStored = c.energy[kEnergyOffset<TangentialSpring>];
+  double* const stiffnessWork = c.energy[kEnergyOffset<TangentialSpring> + 2];
+  double* const tangentialWork = c.energy[kEnergyOffset<TangentialSpring> + 3];
+  double* const tangentialDashpot = c.energy[kEnergyOffset<TangentialDamping>];
   // Two loops rather than one: each iteration's chain of roots and divisions is long (the
   // spring's rotation, k_t, then the Coulomb scaling), and with the loop split the CPU overlaps
   // more contacts' chains.
@@ -144,8 +150,8 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
     c.fx[k] = -fn * nx;
     c.fy[k] = -fn * ny;
     c.fz[k] = -fn * nz;
-    c.elasticNormal[k] = stored;
-    c.normalDampingPower[k] = dashpot;
+    normalStored[k] = stored;
+    normalDashpot[k] = dashpot;
     if constexpr (kFriction) {
       const double cn = c.cx[k] * nx + c.cy[k] * ny + c.cz[k] * nz;
       const double vtx = c.cx[k] - cn * nx, vty = c.cy[k] - cn * ny, vtz = c.cz[k] - cn * nz;
@@ -153,10 +159,10 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       const double length2 = TangentialSpring::turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz,
                                                                         constants.dt, sx, sy, sz);
       const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient, radius, h);
-      c.stiffnessWork[k] = kAdvance ? 0.5 * (kt - spring[3][k]) * length2 : 0.0;
+      stiffnessWork[k] = kAdvance ? 0.5 * (kt - spring[3][k]) * length2 : 0.0;
       // The trial force, before the Coulomb cap: the spring's, then the dashpot's.
       double tx = -kt * sx, ty = -kt * sy, tz = -kt * sz;
-      c.tangentialDampingPower[k] =
+      tangentialDashpot[k] =
           TangentialDamping::addForce(constants.tangentialDamping, mass, vtx, vty, vtz, tx, ty, tz);
       c.tx[k] = tx;
       c.ty[k] = ty;
@@ -178,10 +184,10 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       double sx = spring[0][k], sy = spring[1][k], sz = spring[2][k];
       const double kt = c.kt[k];
       const bool sliding = TangentialSpring::cap(c.limit[k], kt, tx, ty, tz, sx, sy, sz);
-      const double dampingPower = c.tangentialDampingPower[k];
-      c.tangentialDampingPower[k] = sliding ? 0.0 : dampingPower;  // sticking only
-      c.tangentialPower[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];
-      c.elasticTangential[k] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
+      const double dampingPower = tangentialDashpot[k];
+      tangentialDashpot[k] = sliding ? 0.0 : dampingPower;  // sticking only
+      tangentialWork[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];
+      tangentialStored[k] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
       if constexpr (kAdvance) {
         spring[0][k] = sx;
         spring[1][k] = sy;

@@ -137,6 +137,31 @@ std::string ParameterSpec::requirement() const {
   return range.describe();
 }
 
+std::span<const EnergyAccountSpec> energyAccounts() {
+  static const std::vector<EnergyAccountSpec> accounts = [] {
+    std::vector<EnergyAccountSpec> out;
+    for (const TermSpec& t : contactTerms()) {
+      for (const EnergyTerm& e : t.energy) out.push_back({e, out.size(), t.name});
+    }
+    return out;
+  }();
+  return accounts;
+}
+
+std::span<const EnergyAccountSpec> energyColumns() {
+  static const std::vector<EnergyAccountSpec> columns = [] {
+    std::vector<EnergyAccountSpec> out;
+    for (EnergyKind kind :
+         {EnergyKind::Stored, EnergyKind::Dissipated, EnergyKind::Slip, EnergyKind::Supplied}) {
+      for (const EnergyAccountSpec& a : energyAccounts()) {
+        if (a.account.kind == kind) out.push_back(a);
+      }
+    }
+    return out;
+  }();
+  return columns;
+}
+
 std::span<const ParameterSpec> materialParameters() {
   static const std::vector<ParameterSpec> table = tableOf(ContactModel{});
   return table;

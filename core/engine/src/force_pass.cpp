@@ -242,13 +242,10 @@ inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
 template <bool kFriction>
 void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers) {
   for (std::size_t e = 0; e < m; ++e) {
-    powers.elasticNormal += c.elasticNormal[e];
-    powers.normalDampingPower += c.normalDampingPower[e];
-    if constexpr (kFriction) {
-      powers.elasticTangential += c.elasticTangential[e];
-      powers.tangentialDampingPower += c.tangentialDampingPower[e];
-      powers.tangentialPower += c.tangentialPower[e];
-      powers.stiffnessWork += c.stiffnessWork[e];
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+      if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;  // a residual, not summed
+      if (!kFriction && kEnergySlotTable[slot].needsFriction) continue;
+      powers.energy[slot] += c.energy[slot][e];
     }
   }
   if constexpr (kFriction) powers.tangentialEvaluations += m;
@@ -262,12 +259,7 @@ inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
 }
 
 void addPowers(ContactPowers& sum, const ContactPowers& part) {
-  sum.elasticNormal += part.elasticNormal;
-  sum.elasticTangential += part.elasticTangential;
-  sum.normalDampingPower += part.normalDampingPower;
-  sum.tangentialDampingPower += part.tangentialDampingPower;
-  sum.tangentialPower += part.tangentialPower;
-  sum.stiffnessWork += part.stiffnessWork;
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) sum.energy[slot] += part.energy[slot];
   sum.wallPower += part.wallPower;
   sum.particleContacts += part.particleContacts;
   sum.wallContacts += part.wallContacts;

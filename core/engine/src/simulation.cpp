@@ -223,7 +223,9 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   double potential = 0;
   for (std::size_t i = 0; i < n; ++i) potential += p.mass[i] * config.gravity.dot(p.position[i]);
   s.energy.initialPotential = potential;
-  s.energy.initialTangentialElastic = s.powers.elasticTangential;
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+    s.energy.initialStored[slot] = s.powers.energy[slot];
+  }
 }
 
 Simulation::Simulation(std::unique_ptr<SimulationState> state) : state_(std::move(state)) {}
@@ -326,11 +328,21 @@ void advance(SimulationState& s, bool predictNext) {
   const ContactPowers& now = s.powers;
   EnergyAccumulators& e = s.energy;
   const double half = 0.5 * dt;
-  e.dissipatedNormal += half * (before.normalDampingPower + now.normalDampingPower);
-  e.dissipatedTangential += half * (before.tangentialDampingPower + now.tangentialDampingPower);
-  e.tangentialWork += half * (before.tangentialPower + now.tangentialPower);
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+    switch (kEnergySlotTable[slot].kind) {
+      case EnergyKind::Dissipated:
+      case EnergyKind::Work:
+        e.account[slot] += half * (before.energy[slot] + now.energy[slot]);
+        break;
+      case EnergyKind::Supplied:
+        e.account[slot] += now.energy[slot];
+        break;
+      case EnergyKind::Stored:
+      case EnergyKind::Slip:
+        break;
+    }
+  }
   e.wallWork += half * (before.wallPower + now.wallPower);
-  e.stiffnessWork += now.stiffnessWork;
   for (Wall& w : s.walls) w.impulse += w.reaction * dt;
   s.counters.particleContacts = now.particleContacts;
   s.counters.wallContacts = now.wallContacts;
@@ -520,6 +532,40 @@ double Simulation::kineticEnergy() const {
   return 0.5 * e;
 }
 
+namespace {
+
+/// The Slip of a group: −Work − (Stored − its start) − Dissipated + Supplied, over the group's
+/// accounts, in that order.
+double slip(const SimulationState& s, std::string_view group) {
+  const EnergyAccumulators& e = s.energy;
+  double value = 0.0;
+  for (EnergyKind kind :
+       {EnergyKind::Work, EnergyKind::Stored, EnergyKind::Dissipated, EnergyKind::Supplied}) {
+    for (const EnergyAccountSpec& a : energyAccounts()) {
+      if (a.account.group != group || a.account.kind != kind) continue;
+      switch (kind) {
+        case EnergyKind::Work:
+          value -= e.account[a.slot];
+          break;
+        case EnergyKind::Stored:
+          value -= s.powers.energy[a.slot] - e.initialStored[a.slot];
+          break;
+        case EnergyKind::Dissipated:
+          value -= e.account[a.slot];
+          break;
+        case EnergyKind::Supplied:
+          value += e.account[a.slot];
+          break;
+        case EnergyKind::Slip:
+          break;
+      }
+    }
+  }
+  return value;
+}
+
+}  // namespace
+
 EnergyBalance Simulation::energy() const {
   const SimulationState& s = *state_;
   const Particles& p = s.particles;
@@ -531,15 +577,26 @@ EnergyBalance Simulation::energy() const {
     potential += p.mass[i] * s.config.gravity.dot(p.position[i]);
   }
   const EnergyAccumulators& e = s.energy;
-  b.elasticNormal = s.powers.elasticNormal;
-  b.elasticTangential = s.powers.elasticTangential;
-  b.dissipatedNormal = e.dissipatedNormal;
-  b.dissipatedTangential = e.dissipatedTangential;
-  b.tangentialStiffnessWork = e.stiffnessWork;
-  // The friction column is what the tangential forces took from the particles and neither the
-  // springs nor the tangential dashpots hold: W_t = -ΔE_s - D_t - D_f + S.
-  b.dissipatedFriction = -e.tangentialWork - (b.elasticTangential - e.initialTangentialElastic) -
-                         e.dissipatedTangential + e.stiffnessWork;
+  // Each column's value; a Slip account is what its group's forces took from the particles and
+  // neither its springs nor its dashpots hold: −W − ΔE_s − D + S.
+  for (const EnergyAccountSpec& column : energyColumns()) {
+    const std::size_t slot = column.slot;
+    double value = 0.0;
+    switch (column.account.kind) {
+      case EnergyKind::Stored:
+        value = s.powers.energy[slot];
+        break;
+      case EnergyKind::Dissipated:
+      case EnergyKind::Supplied:
+      case EnergyKind::Work:
+        value = e.account[slot];
+        break;
+      case EnergyKind::Slip:
+        value = slip(s, column.account.group);
+        break;
+    }
+    b.contact.push_back({column.account.column, column.account.kind, value});
+  }
   b.gravityWork = potential - e.initialPotential;
   b.wallWork = e.wallWork;
   return b;

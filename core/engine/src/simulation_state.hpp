@@ -180,15 +180,11 @@ struct Derivatives {
 
 // ---- 3. Energy accumulators ---------------------------------------------------------------
 
-/// Powers of one force evaluation, summed over contacts.
+/// One force evaluation, summed over contacts: each energy account's value (kEnergySlotTable:
+/// the stored energy [J], a power [W] or an increment [J], by its kind; Slip slots stay 0).
 struct ContactPowers {
-  double elasticNormal = 0;           ///< stored normal elastic energy [J]
-  double elasticTangential = 0;       ///< stored tangential spring energy [J]
-  double normalDampingPower = 0;      ///< [W], >= 0
-  double tangentialDampingPower = 0;  ///< while sticking [W], >= 0
-  double tangentialPower = 0;         ///< work rate of tangential forces on relative motion [W]
-  double stiffnessWork = 0;           ///< increment of this step [J]
-  double wallPower = 0;               ///< work rate of the walls' velocity on the particles [W]
+  double energy[kEnergySlots] = {};
+  double wallPower = 0;  ///< work rate of the walls' velocity on the particles [W]
   std::size_t particleContacts = 0;
   std::size_t wallContacts = 0;
   std::uint64_t tangentialEvaluations = 0;
@@ -206,11 +202,14 @@ struct ContactScratch {
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };
 
+/// The ledger since the start, per energy account: Dissipated and Work integrated (trapezoid
+/// on the powers), Supplied summed; and each Stored account's value at the start, against which
+/// its group's Slip is reckoned.
 struct EnergyAccumulators {
-  double dissipatedNormal = 0, dissipatedTangential = 0, tangentialWork = 0;
-  double stiffnessWork = 0, wallWork = 0;
+  double account[kEnergySlots] = {};
+  double initialStored[kEnergySlots] = {};
+  double wallWork = 0;
   double initialPotential = 0;  ///< -Σ m g·x at the start [J]
-  double initialTangentialElastic = 0;
 };
 
 // ---- 4. The state -------------------------------------------------------------------------

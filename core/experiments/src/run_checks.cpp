@@ -35,9 +35,11 @@ RunChecks::RunChecks(const RunCheckSpec& spec, const BoxSpec& box, double refere
     : spec_(spec), box_(box), referenceTotal_(referenceTotal) {}
 
 double RunChecks::workDone(const EnergyBalance& e, double referenceTotal) {
-  return std::abs(referenceTotal) + std::abs(e.gravityWork) + std::abs(e.wallWork) +
-         std::abs(e.tangentialStiffnessWork) + std::abs(e.dissipatedNormal) +
-         std::abs(e.dissipatedTangential) + std::abs(e.dissipatedFriction);
+  double work = std::abs(referenceTotal) + std::abs(e.gravityWork) + std::abs(e.wallWork);
+  for (const EnergyAccount& a : e.contact) {
+    if (a.kind != EnergyKind::Stored) work += std::abs(a.value);  // put in or taken out
+  }
+  return work;
 }
 
 std::vector<std::string> RunChecks::atSample(const Simulation& sim, const std::string& stage) {

@@ -37,7 +37,9 @@ class CheckpointError : public std::runtime_error {
 ///    (key, value) pairs after that flag: a parameter the file lacks keeps its default, one this
 ///    build does not declare is refused by name; and each contact's history as the terms'
 ///    slots (ContactHistory), with the list of (term, slot count) before the pairs, so that a
-///    file is read into this build's layout by term (older files: the tangential spring's 4).
+///    file is read into this build's layout by term (older files: the tangential spring's 4);
+///    and every energy account (its value now, since the start, at the start) by column after
+///    the material, so that a term's accounts travel without a field of their own.
 /// Versions 2 to 4 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
 inline constexpr std::uint32_t kCheckpointVersion = 5;

@@ -4,6 +4,7 @@
 /// validation (validateMaterial), the state checks, the checkpoint, the scene fingerprint, the
 /// GUI's fields and the docs test. A new term is a file in contact_terms/ and a line in
 /// ContactModel below; nothing else lists parameters.
+#include <array>
 #include <span>
 #include <string>
 #include <string_view>
@@ -53,6 +54,42 @@ inline constexpr std::size_t kHistorySlots = HistoryLayout<ContactModel>::slots;
 template <class T>
 inline constexpr std::size_t kHistoryOffset = HistoryLayout<ContactModel>::template offset<T>();
 
+/// The energy accounts of all terms, one slot each, and where term T's begin.
+template <class List>
+struct EnergyLayout;
+template <class... Terms>
+struct EnergyLayout<TermList<Terms...>> {
+  static constexpr std::size_t slots = (Terms::energy.size() + ...);
+  template <class T>
+  static constexpr std::size_t offset() {
+    std::size_t at = 0;
+    bool found = false;
+    ((found = found || std::is_same_v<T, Terms>, at += found ? 0 : Terms::energy.size()), ...);
+    return at;
+  }
+  /// Per slot: its kind, and whether its term acts only with friction.
+  struct Slot {
+    EnergyKind kind;
+    bool needsFriction;
+  };
+  static constexpr std::array<Slot, slots> table() {
+    std::array<Slot, slots> out{};
+    std::size_t at = 0;
+    (
+        [&] {
+          for (const EnergyTerm& e : Terms::energy) out[at++] = {e.kind, Terms::needsFriction};
+        }(),
+        ...);
+    return out;
+  }
+};
+inline constexpr std::size_t kEnergySlots = EnergyLayout<ContactModel>::slots;
+/// Where term T's energy accounts begin (the force pass's per-contact values and sums).
+template <class T>
+inline constexpr std::size_t kEnergyOffset = EnergyLayout<ContactModel>::template offset<T>();
+/// Each slot's kind and whether it needs friction, by slot.
+inline constexpr auto kEnergySlotTable = EnergyLayout<ContactModel>::table();
+
 /// The history one contact carries for its life: every term's slots, zero for a new contact.
 /// Its size comes from the terms' declarations.
 struct ContactHistory {
@@ -100,6 +137,18 @@ struct TermSpec {
   std::span<const EnergyTerm> energy;
   std::string_view stableStep;
 };
+
+/// An energy account with its slot (the force pass's index for it) and term.
+struct EnergyAccountSpec {
+  EnergyTerm account;
+  std::size_t slot;
+  std::string_view term;
+};
+/// Every energy account, slot by slot (term by term in ContactModel's order).
+std::span<const EnergyAccountSpec> energyAccounts();
+/// The ledger's columns, as the time series prints them: the Stored accounts, the Dissipated,
+/// the Slip, then the Supplied (Work accounts are not columns); each kind in term order.
+std::span<const EnergyAccountSpec> energyColumns();
 
 /// Every declared material parameter, term by term in ContactModel's order.
 std::span<const ParameterSpec> materialParameters();

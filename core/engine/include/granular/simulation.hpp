@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "granular/contact_theory.hpp"
@@ -48,29 +51,46 @@ struct SimulationConfig {
   int threads = 0;
 };
 
+/// One account of the contact energy ledger, as its term declares it (granular/contact_terms/).
+struct EnergyAccount {
+  std::string_view column;  ///< the time series' column, e.g. "dissipated_normal_J"
+  EnergyKind kind;
+  double value = 0;  ///< [J]
+};
+
 /// Energy bookkeeping. Stored energies are instantaneous; dissipation and work are accumulated
 /// since the start (trapezoidal rule on the powers). For an exact integrator `total()` is constant;
 /// its drift measures the integrator's truncation error.
 struct EnergyBalance {
   double kineticTranslational = 0;  ///< Σ ½ m v² [J]
   double kineticRotational = 0;     ///< Σ ½ I ω² [J]
-  double elasticNormal = 0;         ///< Σ over contacts of ∫ F_n^e dh [J]
-  double elasticTangential = 0;     ///< Σ over contacts of ½ k_t |ξ|² [J]
-  double dissipatedNormal = 0;      ///< by the normal dashpot (as applied, after the clamp) [J]
-  double dissipatedTangential = 0;  ///< by the tangential dashpot while sticking [J]
-  double dissipatedFriction = 0;    ///< by Coulomb sliding: the rest of the tangential work [J]
-  /// Energy the tangential spring gains when its stiffness k_t ∝ sqrt(R h) changes at fixed
-  /// stretch ξ: the Mindlin-type spring of the paper is not conservative, so this term is kept
-  /// apart rather than hidden in a dissipation column [J].
-  double tangentialStiffnessWork = 0;
+  /// The contact terms' accounts in column order (energyColumns(): stored, dissipated, slip,
+  /// supplied) [J].
+  std::vector<EnergyAccount> contact;
   double gravityWork = 0;  ///< work of gravity on the particles, Σ m g·(x - x₀) [J]
   double wallWork = 0;     ///< work of the moving walls on the particles [J]
 
-  /// Stored + dissipated − work put in: constant up to the integrator's truncation error [J].
+  /// The account with this column ("elastic_tangential_J"); throws std::out_of_range if the
+  /// contact model declares none.
+  double of(std::string_view column) const {
+    for (const EnergyAccount& a : contact) {
+      if (a.column == column) return a.value;
+    }
+    throw std::out_of_range("no energy account '" + std::string(column) + "'");
+  }
+  /// The accounts of one kind, summed [J].
+  double sum(EnergyKind kind) const {
+    double total = 0;
+    for (const EnergyAccount& a : contact) total += a.kind == kind ? a.value : 0.0;
+    return total;
+  }
+  /// Kinetic + stored + dissipated (slip included) − supplied − work of gravity and walls:
+  /// constant up to the integrator's truncation error [J].
   double total() const {
-    return kineticTranslational + kineticRotational + elasticNormal + elasticTangential +
-           dissipatedNormal + dissipatedTangential + dissipatedFriction - tangentialStiffnessWork -
-           gravityWork - wallWork;
+    double sum = kineticTranslational + kineticRotational;
+    for (const EnergyAccount& a : contact)
+      sum += a.kind == EnergyKind::Supplied ? -a.value : a.value;
+    return sum - gravityWork - wallWork;
   }
   double kinetic() const { return kineticTranslational + kineticRotational; }
 };

@@ -21,6 +21,7 @@ struct Body {
   };
   static constexpr std::span<const std::string_view> history{};
   static constexpr std::span<const EnergyTerm> energy{};
+  static constexpr bool needsFriction = false;
   static constexpr std::string_view stableStep = "the mass in every contact's frequency";
 };
 

@@ -27,9 +27,10 @@ struct NormalDamping {
                                 &Parameters::noPull},
   };
   static constexpr std::span<const std::string_view> history{};
-  static constexpr EnergyTerm kEnergy[] = {{"dissipated_normal_J", EnergyKind::Dissipated,
+  static constexpr EnergyTerm kEnergy[] = {{"dissipated_normal_J", EnergyKind::Dissipated, "normal",
                                             "by the dashpot, as applied after the clamp"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr bool needsFriction = false;
   static constexpr std::string_view stableStep =
       "must leave the stiffest contact under-damped; its duration then sets the step";
 

@@ -40,8 +40,9 @@ struct NormalElastic {
   };
   static constexpr std::span<const std::string_view> history{};
   static constexpr EnergyTerm kEnergy[] = {
-      {"elastic_normal_J", EnergyKind::Stored, "Σ over contacts of ∫ F_n^e dh"}};
+      {"elastic_normal_J", EnergyKind::Stored, "normal", "Σ over contacts of ∫ F_n^e dh"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr bool needsFriction = false;
   static constexpr std::string_view stableStep =
       "the contact's duration: the step is at most 1/50 (gear5) or 1/10 (verlet) of the stiffest "
       "contact's";

@@ -19,9 +19,10 @@ struct TangentialDamping {
                                   &Parameters::tangentialDamping},
   };
   static constexpr std::span<const std::string_view> history{};
-  static constexpr EnergyTerm kEnergy[] = {
-      {"dissipated_tangential_J", EnergyKind::Dissipated, "by the dashpot while sticking"}};
+  static constexpr EnergyTerm kEnergy[] = {{"dissipated_tangential_J", EnergyKind::Dissipated,
+                                            "tangential", "by the dashpot while sticking"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr bool needsFriction = true;
   static constexpr std::string_view stableStep =
       "γt <= z/(21 Δt): a sticking contact's dashpot acts at 3.5 γt, up to 6 at once, and the "
       "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 1 verlet)";

@@ -36,11 +36,16 @@ struct TangentialSpring {
                                                   "stiffness"};
   static constexpr std::span<const std::string_view> history{kHistory};
   static constexpr EnergyTerm kEnergy[] = {
-      {"elastic_tangential_J", EnergyKind::Stored, "Σ over contacts of ½ k_t |ξ|²"},
-      {"dissipated_friction_J", EnergyKind::Dissipated, "by Coulomb sliding"},
-      {"tangential_stiffness_work_J", EnergyKind::Stored,
-       "work of k_t changing at fixed ξ (the √h spring is not conservative)"}};
+      {"elastic_tangential_J", EnergyKind::Stored, "tangential", "Σ over contacts of ½ k_t |ξ|²"},
+      {"dissipated_friction_J", EnergyKind::Slip, "tangential",
+       "by Coulomb sliding: the rest of the tangential forces' work"},
+      {"tangential_stiffness_work_J", EnergyKind::Supplied, "tangential",
+       "gained by the spring when k_t ∝ √(R h) changes at fixed ξ (the Mindlin-type spring is "
+       "not conservative)"},
+      {"tangential_work_J", EnergyKind::Work, "tangential",
+       "work of the capped tangential force on the contact points' relative motion"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
+  static constexpr bool needsFriction = true;
   static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
 
   /// Why a stored history is not a state this term can have come to (nullptr: it can).

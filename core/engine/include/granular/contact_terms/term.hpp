@@ -8,7 +8,9 @@
 ///   - `history`: the names of its per-contact history slots, one double each (none for a
 ///     memoryless term); the model's ContactHistory holds every term's slots, and a term with
 ///     slots also gives `historyProblem(const double* slot)`, the state checks' rule for them;
-///   - `energy`: the energy terms it stores or dissipates (the ledger's columns);
+///   - `energy`: its energy accounts (EnergyTerm; the ledger's columns), and `needsFriction`:
+///     whether it acts only where friction is on (its accounts and history are then left out
+///     of a frictionless scene's pass);
 ///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
 ///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them).
 /// Everything that lists material parameters (the scene loader, the one validation, the state
@@ -58,11 +60,24 @@ struct FlagParameter {
   bool P::*field;
 };
 
-/// An energy term in the ledger: stored (springs) or dissipated (dashpots, slip).
-enum class EnergyKind { Stored, Dissipated };
+/// What an energy account of the ledger is (EnergyBalance::total adds them with these signs):
+enum class EnergyKind {
+  Stored,      ///< held by the contacts now: each contact gives its energy [J]; +
+  Dissipated,  ///< ∫ power dt (trapezoid): each contact gives its power [W]; +
+  Slip,        ///< what its group's forces took and nothing else holds (no per-contact value):
+               ///< −Work − ΔStored − Dissipated + Supplied of the group [J]; +
+  Supplied,    ///< put into the contacts, not by the bodies: each contact gives its increment
+               ///< [J]; −
+  Work,        ///< ∫ power dt of the group's force on the relative motion [J]: Slip's input, not
+               ///< a column
+};
+
+/// An energy account a term declares: the energy time series' column, its kind, and the group
+/// whose forces it belongs to (a Slip account is the residual of its group).
 struct EnergyTerm {
-  std::string_view column;  ///< the energy time series' column (J)
+  std::string_view column;  ///< the time series' column (J)
   EnergyKind kind;
+  std::string_view group;
   std::string_view doc;
 };
 
