@@ -64,7 +64,7 @@ struct ContactChunk {
   alignas(64) double cx[kChunk], cy[kChunk], cz[kChunk];  ///< contact-point velocity [m/s]
   // The contact's history, every term's slots (ContactHistory): the stored one in, the advanced
   // one out.
-  alignas(64) double history[kHistorySlots][kChunk];
+  alignas(64) double historyRows[kHistorySlots][kChunk];
   // Between the law's two loops (friction only): trial tangential force [N], tangential
   // velocity [m/s], k_t [N/m], Coulomb limit μ F_n [N].
   alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk];
@@ -74,7 +74,18 @@ struct ContactChunk {
   // energy account (kEnergySlotTable: an energy, a power or an increment, by its kind).
   alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
   alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
-  alignas(64) double energy[kEnergySlots][kChunk];
+  alignas(64) double energyRows[kEnergySlots][kChunk];
+
+  /// Term T's history slot `slot` (its declared order), one entry per contact.
+  template <class T>
+  double* history(std::size_t slot) {
+    return historyRows[kHistoryOffset<T> + slot];
+  }
+  /// Term T's energy account `slot` (its declared order), one entry per contact.
+  template <class T>
+  double* energy(std::size_t slot) {
+    return energyRows[kEnergyOffset<T> + slot];
+  }
 };
 
 /// Pair geometry from the raw columns dx..mj of touching pairs (and the angular velocities with
@@ -115,95 +126,82 @@ template <bool kFriction>
   }
 }
 
-/// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body,
-/// composed of the contact model's terms (granular/contact_terms/): the normal elastic law and
-/// dashpot (clamped at zero unless the scene allows a pull), and with friction the tangential
-/// spring and dashpot capped at μ |F_n|. With kAdvance the spring is advanced by v_t Δt and
-/// written back; without, the force is evaluated for the stored spring (measurements between
-/// steps). The terms are inline functions on one lane: the composition is fixed at compile
-/// time, and a frictionless scene's build has no tangential code at all.
+/// Term T's first and second loop, where it has them and the build includes it (a term that
+/// needs friction is left out of the frictionless build).
+template <class T, bool kFriction, NormalLaw kLaw, bool kAdvance>
+[[gnu::always_inline]] inline void firstOf(const ContactConstants& k, ContactChunk& c,
+                                           std::size_t e, ContactLane& lane) {
+  if constexpr (requires { T::template first<kLaw, kAdvance>(k, c, e, lane); }) {
+    if constexpr (kFriction || !T::needsFriction) T::template first<kLaw, kAdvance>(k, c, e, lane);
+  }
+}
+template <class T, bool kAdvance>
+[[gnu::always_inline]] inline void secondOf(const ContactConstants& k, ContactChunk& c,
+                                            std::size_t e, ContactLane& lane) {
+  if constexpr (requires { T::template second<kAdvance>(k, c, e, lane); }) {
+    T::template second<kAdvance>(k, c, e, lane);
+  }
+}
+
+/// One contact through every term's first loop: the normal force, and with friction the trial
+/// tangential force. A function of its own, not the loop's body: the lane is then a local of an
+/// inlined call, which the compiler splits into registers, rather than a variable of the simd
+/// loop, which OpenMP would keep as an array of structs per lane and the vectoriser refuse.
+template <bool kFriction, NormalLaw kLaw, bool kAdvance, class... Terms>
+[[gnu::always_inline]] inline void firstLoopBody(TermList<Terms...>, const ContactConstants& k,
+                                                 ContactChunk& c, std::size_t e) {
+  ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
+  (firstOf<Terms, kFriction, kLaw, kAdvance>(k, c, e, lane), ...);
+  c.fx[e] = -lane.normal * lane.nx;
+  c.fy[e] = -lane.normal * lane.ny;
+  c.fz[e] = -lane.normal * lane.nz;
+  if constexpr (kFriction) {
+    c.tx[e] = lane.tx;
+    c.ty[e] = lane.ty;
+    c.tz[e] = lane.tz;
+  }
+}
+
+/// One contact through every term's second loop: the caps; then the total force and n × F.
+template <bool kAdvance, class... Terms>
+[[gnu::always_inline]] inline void secondLoopBody(TermList<Terms...>, const ContactConstants& k,
+                                                  ContactChunk& c, std::size_t e) {
+  ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
+  lane.tx = c.tx[e];
+  lane.ty = c.ty[e];
+  lane.tz = c.tz[e];
+  (secondOf<Terms, kAdvance>(k, c, e, lane), ...);
+  const double fx = c.fx[e] + lane.tx, fy = c.fy[e] + lane.ty, fz = c.fz[e] + lane.tz;
+  c.fx[e] = fx;
+  c.fy[e] = fy;
+  c.fz[e] = fz;
+  // n × F: the torques' common factor (d_ci × F with d_ci = a_i n).
+  const double nx = lane.nx, ny = lane.ny, nz = lane.nz;
+  c.mx[e] = ny * fz - nz * fy;
+  c.my[e] = nz * fx - nx * fz;
+  c.mz[e] = nx * fy - ny * fx;
+}
+
+/// F_ij of Eq. (5) for every contact of the chunk, with n pointing from i to the other body: the
+/// contact model's terms (ContactModel, granular/contact_terms/) applied in their order, each
+/// through its `first` and `second` functions: the normal elastic law and dashpot (clamped at
+/// zero unless the scene allows a pull), and with friction the tangential spring and dashpot
+/// capped at μ |F_n|. With kAdvance the history is advanced and written back; without, the
+/// force is evaluated for the stored history (measurements between steps). The composition is
+/// fixed at compile time, and a frictionless scene's build has no tangential code at all.
 template <bool kFriction, NormalLaw kLaw, bool kAdvance>
-[[gnu::always_inline]] inline void contactLaw(const ContactConstants& constants, ContactChunk& c,
+[[gnu::always_inline]] inline void contactLaw(const ContactConstants& k, ContactChunk& c,
                                               std::size_t count) {
-  // The tangential spring's history slots: stretch x, y, z and the last k_t.
-  double(*const spring)[kChunk] = c.history + kHistoryOffset<TangentialSpring>;
-  // Each term's energy accounts, in the order the term declares them.
-  double* const normalStored = c.energy[kEnergyOffset<NormalElastic>];
-  double* const normalDashpot = c.energy[kEnergyOffset<NormalDamping>];
-  double* const tangentialStored = c.energy[kEnergyOffset<TangentialSpring>];
-  double* const stiffnessWork = c.energy[kEnergyOffset<TangentialSpring> + 2];
-  double* const tangentialWork = c.energy[kEnergyOffset<TangentialSpring> + 3];
-  double* const tangentialDashpot = c.energy[kEnergyOffset<TangentialDamping>];
-  // Two loops rather than one: each iteration's chain of roots and divisions is long (the
+  // Two loops rather than one: each contact's chain of roots and divisions is long (the
   // spring's rotation, k_t, then the Coulomb scaling), and with the loop split the CPU overlaps
-  // more contacts' chains.
+  // more contacts' chains; and the caps of the second need every force of the first.
 #pragma omp simd
-  for (std::size_t k = 0; k < count; ++k) {
-    const double h = c.overlap[k], nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
-    const double radius = c.radius[k], mass = c.mass[k];
-    double fe, stored;
-    NormalElastic::force<kLaw>(constants.normalCoefficient, radius, h, fe, stored);
-    const double rate = c.vx[k] * nx + c.vy[k] * ny + c.vz[k] * nz;  // ḣ
-    double fn, dashpot;
-    NormalDamping::force(constants.normalDamping, constants.normalForceFloor, mass, fe, rate, fn,
-                         dashpot);
-    c.fx[k] = -fn * nx;
-    c.fy[k] = -fn * ny;
-    c.fz[k] = -fn * nz;
-    normalStored[k] = stored;
-    normalDashpot[k] = dashpot;
-    if constexpr (kFriction) {
-      const double cn = c.cx[k] * nx + c.cy[k] * ny + c.cz[k] * nz;
-      const double vtx = c.cx[k] - cn * nx, vty = c.cy[k] - cn * ny, vtz = c.cz[k] - cn * nz;
-      double sx = spring[0][k], sy = spring[1][k], sz = spring[2][k];
-      const double length2 = TangentialSpring::turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz,
-                                                                        constants.dt, sx, sy, sz);
-      const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient, radius, h);
-      stiffnessWork[k] = kAdvance ? 0.5 * (kt - spring[3][k]) * length2 : 0.0;
-      // The trial force, before the Coulomb cap: the spring's, then the dashpot's.
-      double tx = -kt * sx, ty = -kt * sy, tz = -kt * sz;
-      tangentialDashpot[k] =
-          TangentialDamping::addForce(constants.tangentialDamping, mass, vtx, vty, vtz, tx, ty, tz);
-      c.tx[k] = tx;
-      c.ty[k] = ty;
-      c.tz[k] = tz;
-      spring[0][k] = sx;
-      spring[1][k] = sy;
-      spring[2][k] = sz;
-      c.vtx[k] = vtx;
-      c.vty[k] = vty;
-      c.vtz[k] = vtz;
-      c.kt[k] = kt;
-      c.limit[k] = constants.friction * std::abs(fn);  // μ |F_n|: F_n < 0 only with a pull
-    }
+  for (std::size_t e = 0; e < count; ++e) {
+    firstLoopBody<kFriction, kLaw, kAdvance>(ContactModel{}, k, c, e);
   }
   if constexpr (kFriction) {
 #pragma omp simd
-    for (std::size_t k = 0; k < count; ++k) {
-      double tx = c.tx[k], ty = c.ty[k], tz = c.tz[k];
-      double sx = spring[0][k], sy = spring[1][k], sz = spring[2][k];
-      const double kt = c.kt[k];
-      const bool sliding = TangentialSpring::cap(c.limit[k], kt, tx, ty, tz, sx, sy, sz);
-      const double dampingPower = tangentialDashpot[k];
-      tangentialDashpot[k] = sliding ? 0.0 : dampingPower;  // sticking only
-      tangentialWork[k] = tx * c.vtx[k] + ty * c.vty[k] + tz * c.vtz[k];
-      tangentialStored[k] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
-      if constexpr (kAdvance) {
-        spring[0][k] = sx;
-        spring[1][k] = sy;
-        spring[2][k] = sz;
-        spring[3][k] = kt;
-      }
-      const double fx = c.fx[k] + tx, fy = c.fy[k] + ty, fz = c.fz[k] + tz;
-      c.fx[k] = fx;
-      c.fy[k] = fy;
-      c.fz[k] = fz;
-      // n × F: the torques' common factor (d_ci × F with d_ci = a_i n).
-      const double nx = c.nx[k], ny = c.ny[k], nz = c.nz[k];
-      c.mx[k] = ny * fz - nz * fy;
-      c.my[k] = nz * fx - nx * fz;
-      c.mz[k] = nx * fy - ny * fx;
-    }
+    for (std::size_t e = 0; e < count; ++e) secondLoopBody<kAdvance>(ContactModel{}, k, c, e);
   }
 }
 

@@ -167,7 +167,7 @@ inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourL
 
 /// Copies a contact's stored history (every term's slots) into entry e of the chunk.
 inline void loadSpring(const ContactHistory& history, ContactChunk& c, std::size_t e) {
-  for (std::size_t k = 0; k < kHistorySlots; ++k) c.history[k][e] = history.slot[k];
+  for (std::size_t k = 0; k < kHistorySlots; ++k) c.historyRows[k][e] = history.slot[k];
 }
 
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
@@ -245,7 +245,7 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
     for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
       if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;  // a residual, not summed
       if (!kFriction && kEnergySlotTable[slot].needsFriction) continue;
-      powers.energy[slot] += c.energy[slot][e];
+      powers.energy[slot] += c.energyRows[slot][e];
     }
   }
   if constexpr (kFriction) powers.tangentialEvaluations += m;
@@ -254,7 +254,7 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
 /// The advanced history of the chunk's entry e.
 inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
   ContactHistory history;
-  for (std::size_t k = 0; k < kHistorySlots; ++k) history.slot[k] = c.history[k][e];
+  for (std::size_t k = 0; k < kHistorySlots; ++k) history.slot[k] = c.historyRows[k][e];
   return history;
 }
 

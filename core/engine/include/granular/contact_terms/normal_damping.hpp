@@ -2,8 +2,10 @@
 /// Normal dashpot γn m ḣ (docs/physics.md §1, Eq. (3)), and the clamp that keeps the normal force
 /// from pulling: F_n = max(0, F_e + γn m ḣ).
 #include <algorithm>
+#include <cstddef>
 #include <tuple>
 
+#include "granular/contact_terms/normal_elastic.hpp"
 #include "granular/contact_terms/term.hpp"
 
 namespace granular {
@@ -33,6 +35,15 @@ struct NormalDamping {
   static constexpr bool needsFriction = false;
   static constexpr std::string_view stableStep =
       "must leave the stiffest contact under-damped; its duration then sets the step";
+
+  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+                                           ContactLane& lane) {
+    const double rate = c.vx[e] * lane.nx + c.vy[e] * lane.ny + c.vz[e] * lane.nz;  // ḣ
+    double power;
+    force(k.normalDamping, k.normalForceFloor, lane.mass, lane.elastic, rate, lane.normal, power);
+    c.template energy<NormalDamping>(0)[e] = power;
+  }
 
   /// The normal force F_n = max(floor, F_e + γn m ḣ) (floor 0, or −∞ with a pull allowed) and
   /// the power the dashpot takes, (F_n − F_e) ḣ.

@@ -2,6 +2,7 @@
 /// Normal elastic force F = (2/3) E/(1-ν²) R^(2-α) h^α, α = 1 (Hooke) or 3/2 (Hertz)
 /// (docs/physics.md §1, Eq. (3)), and the elastic energy it stores, ∫F dh.
 #include <cmath>
+#include <cstddef>
 #include <tuple>
 
 #include "granular/contact_terms/term.hpp"
@@ -46,6 +47,14 @@ struct NormalElastic {
   static constexpr std::string_view stableStep =
       "the contact's duration: the step is at most 1/50 (gear5) or 1/10 (verlet) of the stiffest "
       "contact's";
+
+  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+                                           ContactLane& lane) {
+    double stored;
+    force<kLaw>(k.normalCoefficient, lane.radius, lane.h, lane.elastic, stored);
+    c.template energy<NormalElastic>(0)[e] = stored;
+  }
 
   /// Elastic force k R^(2-α) h^α and the energy it stores (k: the normal coefficient).
   template <NormalLaw kLaw>

@@ -1,8 +1,10 @@
 #pragma once
 /// Tangential dashpot γt m v_t (docs/physics.md §1, Eq. (4)): part of the trial tangential force
 /// before the Coulomb cap, so it acts while the contact sticks.
+#include <cstddef>
 #include <tuple>
 
+#include "granular/contact_terms/normal_elastic.hpp"
 #include "granular/contact_terms/term.hpp"
 
 namespace granular {
@@ -26,6 +28,21 @@ struct TangentialDamping {
   static constexpr std::string_view stableStep =
       "γt <= z/(21 Δt): a sticking contact's dashpot acts at 3.5 γt, up to 6 at once, and the "
       "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 1 verlet)";
+
+  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+                                           ContactLane& lane) {
+    c.template energy<TangentialDamping>(0)[e] = addForce(
+        k.tangentialDamping, lane.mass, lane.vtx, lane.vty, lane.vtz, lane.tx, lane.ty, lane.tz);
+  }
+  /// A sliding contact's dashpot is part of the capped force: its power is in the slip.
+  template <bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void second(const Constants&, Chunk& c, std::size_t e,
+                                            ContactLane& lane) {
+    double* power = c.template energy<TangentialDamping>(0);
+    const double sticking = power[e];
+    power[e] = lane.sliding ? 0.0 : sticking;
+  }
 
   /// Adds the dashpot −γt m v_t to the trial force t; returns the power it takes, γt m |v_t|².
   [[gnu::always_inline]] static double addForce(double damping, double mass, double vtx, double vty,

@@ -5,8 +5,10 @@
 /// keeping its length (the contact frame turns with the particles; the stretch does not grow or
 /// shrink by it); while sliding it is reset so that the spring alone carries the cap.
 #include <cmath>
+#include <cstddef>
 #include <tuple>
 
+#include "granular/contact_terms/normal_elastic.hpp"
 #include "granular/contact_terms/term.hpp"
 
 namespace granular {
@@ -47,6 +49,60 @@ struct TangentialSpring {
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
   static constexpr bool needsFriction = true;
   static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
+
+  /// First loop: the contact points' tangential velocity, the stored stretch turned (and with
+  /// kAdvance advanced), k_t, the stiffness work, and the trial force −k_t ξ.
+  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+                                           ContactLane& lane) {
+    const double nx = lane.nx, ny = lane.ny, nz = lane.nz;
+    const double cn = c.cx[e] * nx + c.cy[e] * ny + c.cz[e] * nz;
+    const double vtx = c.cx[e] - cn * nx, vty = c.cy[e] - cn * ny, vtz = c.cz[e] - cn * nz;
+    double* const sxs = c.template history<TangentialSpring>(0);
+    double* const sys = c.template history<TangentialSpring>(1);
+    double* const szs = c.template history<TangentialSpring>(2);
+    double* const kts = c.template history<TangentialSpring>(3);
+    double sx = sxs[e], sy = sys[e], sz = szs[e];
+    const double length2 = turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz, k.dt, sx, sy, sz);
+    const double kt = stiffness(k.tangentialCoefficient, lane.radius, lane.h);
+    c.template energy<TangentialSpring>(2)[e] = kAdvance ? 0.5 * (kt - kts[e]) * length2 : 0.0;
+    lane.tx = -kt * sx;
+    lane.ty = -kt * sy;
+    lane.tz = -kt * sz;
+    lane.vtx = vtx;
+    lane.vty = vty;
+    lane.vtz = vtz;
+    sxs[e] = sx;
+    sys[e] = sy;
+    szs[e] = sz;
+    c.vtx[e] = vtx;
+    c.vty[e] = vty;
+    c.vtz[e] = vtz;
+    c.kt[e] = kt;
+    c.limit[e] = k.friction * std::abs(lane.normal);  // μ |F_n|: F_n < 0 only with a pull
+  }
+
+  /// Second loop: the Coulomb cap on the trial force (spring and dashpot), the spring reset
+  /// while sliding, the work of the capped force and the energy the spring stores.
+  template <bool kAdvance, class Constants, class Chunk>
+  [[gnu::always_inline]] static void second(const Constants&, Chunk& c, std::size_t e,
+                                            ContactLane& lane) {
+    double* const sxs = c.template history<TangentialSpring>(0);
+    double* const sys = c.template history<TangentialSpring>(1);
+    double* const szs = c.template history<TangentialSpring>(2);
+    double sx = sxs[e], sy = sys[e], sz = szs[e];
+    const double kt = c.kt[e];
+    lane.sliding = cap(c.limit[e], kt, lane.tx, lane.ty, lane.tz, sx, sy, sz);
+    c.template energy<TangentialSpring>(3)[e] =
+        lane.tx * c.vtx[e] + lane.ty * c.vty[e] + lane.tz * c.vtz[e];
+    c.template energy<TangentialSpring>(0)[e] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
+    if constexpr (kAdvance) {
+      sxs[e] = sx;
+      sys[e] = sy;
+      szs[e] = sz;
+      c.template history<TangentialSpring>(3)[e] = kt;
+    }
+  }
 
   /// Why a stored history is not a state this term can have come to (nullptr: it can).
   static const char* historyProblem(const double* slot) {

@@ -24,6 +24,22 @@
 
 namespace granular {
 
+/// One contact as the terms see it inside the law's loops (engine/src/contact_law.hpp): the
+/// geometry the force pass gives, and what the terms before this one computed. A term's kernel
+/// is `first` (the law's first loop: forces from the state) and, for the terms that need
+/// friction, `second` (the second loop: the caps, which need every force of the first); both
+/// are static inline templates on the chunk of contacts, which gives them their arrays
+/// (`c.template energy<Term>(slot)`, `c.template history<Term>(slot)`, the velocities).
+struct ContactLane {
+  double h, nx, ny, nz;  ///< overlap [m], unit normal from i to the other body
+  double radius, mass;   ///< R_ij [m], m_ij [kg]
+  double elastic = 0;    ///< the normal elastic force F_e [N]
+  double normal = 0;     ///< the normal force F_n [N] (the force on i is −F_n n + F_t)
+  double vtx = 0, vty = 0, vtz = 0;  ///< tangential velocity of the contact points [m/s]
+  double tx = 0, ty = 0, tz = 0;     ///< tangential force: trial (first), capped (second) [N]
+  bool sliding = false;              ///< the Coulomb cap holds (second loop)
+};
+
 /// How a parameter is written in a scene file: a number, one of a list of names, true/false.
 enum class ParameterKind { Number, Choice, Flag };
 
