@@ -30,6 +30,7 @@ namespace granular {
 struct ContactConstants {
   double normalCoefficient;      ///< (2/3) E/(1-ν²) [Pa]
   double tangentialCoefficient;  ///< (8/3) G/(2-ν) [Pa]
+  double tangentialStiffness;    ///< k_t of the constant law; 0: Mindlin's, from the above [N/m]
   double normalDamping;          ///< γn [1/s]
   double tangentialDamping;      ///< γt [1/s]
   double friction;               ///< μ [-]
@@ -149,7 +150,8 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
       double sx = c.sx[k], sy = c.sy[k], sz = c.sz[k];
       const double length2 = TangentialSpring::turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz,
                                                                         constants.dt, sx, sy, sz);
-      const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient, radius, h);
+      const double kt = TangentialSpring::stiffness(constants.tangentialCoefficient,
+                                                    constants.tangentialStiffness, radius, h);
       c.stiffnessWork[k] = kAdvance ? 0.5 * (kt - c.stiffness[k]) * length2 : 0.0;
       // The trial force, before the Coulomb cap: the spring's, then the dashpot's.
       double tx = -kt * sx, ty = -kt * sy, tz = -kt * sz;
