@@ -83,6 +83,28 @@ TEST(Energy, DissipativeSettlingBalanceConvergesAndIsBoundedAtProductionStep) {
   }
 }
 
+TEST(Energy, ConstantTangentialStiffnessDoesNoStiffnessWorkAndTheBalanceCloses) {
+  // The constant law's k_t never changes at fixed ξ, so the stiffness-work column stays exactly
+  // zero and the balance closes with the stored ½ k_t |ξ|², sliding and the dashpots alone, as
+  // tightly as with Mindlin's spring (the test above).
+  SimulationConfig cfg;
+  cfg.material.friction = 0.3;
+  cfg.material.tangentialLaw = TangentialLaw::Constant;
+  cfg.material.tangentialStiffness = 500.0;  // about Mindlin's k_t in a settled paper bed
+  cfg.impactSpeed = 3.0;
+  const Drift production = runBalance(cfg, 50, 1.5, true);
+  const Drift fine = runBalance(cfg, 200, 1.5, true);
+  EXPECT_GT(production.relative() / fine.relative(), 4.0);
+  EXPECT_LT(production.relative(), 1e-4);
+  cfg.timeStep = stiffestContact(cfg.material, 0.03, cfg.impactSpeed).duration / 50;
+  Simulation sim = fallingGrid(5, 5, 6, cfg, 0.3);
+  while (sim.time() < 1.0) sim.step();
+  const EnergyBalance e = sim.energy();
+  EXPECT_EQ(e.of("tangential_stiffness_work_J"), 0.0);
+  EXPECT_GT(e.of("elastic_tangential_J"), 0.0);
+  EXPECT_GT(e.of("dissipated_friction_J"), 0.0);
+}
+
 TEST(Energy, FrictionlessPathDoesNoTangentialOrRotationalWork) {
   SimulationConfig cfg;  // μ = 0, γt = 10: the tangential force is capped at zero
   cfg.timeStep = 1e-4;

@@ -291,6 +291,18 @@ TEST_F(SceneLoader, MessageNamesFileLineKeyValueAndRange) {
   EXPECT_EQ(errorOf(text), expected);
 }
 
+TEST_F(SceneLoader, TheConstantTangentialLawWithoutItsStiffnessNamesTheLawsLine) {
+  const std::string text =
+      kMinimal + "\n[material]\nfriction = 0.3\ntangential_law = \"constant\"\n";
+  const fs::path path = dir_ / "scene.toml";
+  EXPECT_EQ(errorOf(text), path.string() + ":" + std::to_string(lineCount(kMinimal) + 4) +
+                               ":1: material.tangential_law = \"constant\": needs "
+                               "tangential_stiffness > 0 N/m, the constant law's k_t");
+  const Scene scene = loadScene(write("scene.toml", text + "tangential_stiffness = 650\n"));
+  EXPECT_EQ(scene.simulation.material.tangentialLaw, TangentialLaw::Constant);
+  EXPECT_EQ(scene.simulation.material.tangentialStiffness, 650.0);
+}
+
 TEST_F(SceneLoader, ParseErrorHasLineAndColumn) {
   const std::string message = errorOf(kMinimal + "oops = [1, 2\n");
   EXPECT_NE(message.find("scene.toml:" + std::to_string(lineCount(kMinimal) + 1) + ":"),

@@ -30,6 +30,7 @@ namespace granular {
 struct ContactConstants {
   double normalCoefficient;      ///< (2/3) E/(1-ν²) [Pa]
   double tangentialCoefficient;  ///< (8/3) G/(2-ν) [Pa]
+  double tangentialStiffness;    ///< k_t of the constant law; 0: Mindlin's, from the above [N/m]
   double normalDamping;          ///< γn [1/s]
   double tangentialDamping;      ///< γt [1/s]
   double friction;               ///< μ [-]

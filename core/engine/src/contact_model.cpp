@@ -83,6 +83,18 @@ TermSpec termSpecOf() {
 }
 
 template <class... Terms>
+RuleProblem rulesOf(TermList<Terms...>, const Material& m) {
+  RuleProblem found;
+  auto apply = [&]<class T>() {
+    if constexpr (requires { T::rule(m); }) {
+      if (found.key.empty()) found = T::rule(m);
+    }
+  };
+  (apply.template operator()<Terms>(), ...);
+  return found;
+}
+
+template <class... Terms>
 std::vector<TermSpec> termsOf(TermList<Terms...>) {
   return {termSpecOf<Terms>()...};
 }
@@ -195,6 +207,21 @@ void validateMaterial(const Material& material, std::span<const ParameterSpec> t
     what += p.requirement();
     throw ConfigError(what);
   }
+  const RuleProblem rule = materialRuleProblem(material);
+  if (!rule.key.empty()) {
+    const ParameterSpec& p = *findParameter(rule.key);
+    std::string what = "material.";
+    what += p.key;
+    what += " = ";
+    what += p.valueText(p.get(material));
+    what += ": ";
+    what += rule.requirement;
+    throw ConfigError(what);
+  }
+}
+
+RuleProblem materialRuleProblem(const Material& material) {
+  return rulesOf(ContactModel{}, material);
 }
 
 std::vector<std::pair<std::string, double>> materialValues(const Material& material,

@@ -65,8 +65,8 @@ ImpactPrediction hertzUndampedImpact(double hertzConstant, double m, double v) {
 
 namespace {
 
-double contactDuration(const Material& mat, double reducedRadius, double reducedMass,
-                       double impactSpeed) {
+double normalDuration(const Material& mat, double reducedRadius, double reducedMass,
+                      double impactSpeed) {
   const double kn = mat.normalCoefficient();
   if (mat.normalLaw == NormalLaw::Hooke) {
     // With or without the no-pull clamp: the clamped duration is the shorter (0.94 of π/ωd for
@@ -75,6 +75,21 @@ double contactDuration(const Material& mat, double reducedRadius, double reduced
     return hookeDampedImpact(kn * reducedRadius, mat.normalDamping, reducedMass, 1.0).forceDuration;
   }
   return hertzUndampedImpact(kn * std::sqrt(reducedRadius), reducedMass, impactSpeed).forceDuration;
+}
+
+/// The normal duration, or a constant tangential spring's half-period where shorter. Mindlin's
+/// k_t = (8/3) G/(2−ν) √(R h) stays below the normal stiffness at any overlap a bed reaches, but
+/// a constant k_t can be set stiffer: a sticking contact point then oscillates at
+/// √(3.5 k_t/m_ij) (kTangentialRatePerContact: translation and rotation of both spheres), and
+/// the step must resolve that half-period as it does the normal one.
+double contactDuration(const Material& mat, double reducedRadius, double reducedMass,
+                       double impactSpeed) {
+  const double normal = normalDuration(mat, reducedRadius, reducedMass, impactSpeed);
+  if (!mat.hasFriction() || mat.tangentialLaw != TangentialLaw::Constant) return normal;
+  const double tangential =
+      std::numbers::pi *
+      std::sqrt(reducedMass / (kTangentialRatePerContact * mat.tangentialStiffness));
+  return std::min(normal, tangential);
 }
 
 }  // namespace

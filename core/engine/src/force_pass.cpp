@@ -29,6 +29,7 @@ ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
   const Material& m = cfg.material;
   return {m.normalCoefficient(),
           m.tangentialCoefficient(),
+          m.tangentialLaw == TangentialLaw::Constant ? m.tangentialStiffness : 0.0,
           m.normalDamping,
           m.tangentialDamping,
           m.friction,

@@ -15,6 +15,8 @@
 /// material.normal_damping             | 1/s   | >= 0                         | 60
 /// material.tangential_damping         | 1/s   | >= 0; μ > 0: <= z/(21 Δt)    | 10
 /// material.normal_law                 | -     | "hooke" | "hertz"            | "hooke"
+/// material.tangential_law             | -     | "mindlin" | "constant"        | "mindlin"
+/// material.tangential_stiffness       | N/m   | [0, 1e12]; constant: > 0     | 0
 /// material.no_pull                    | -     | boolean                      | true
 /// simulation.gravity                  | m/s²  | 3 finite numbers             | [0, 0, -9.81]
 /// simulation.integrator               | -     | "gear5" | "verlet"           | "gear5"
@@ -169,6 +171,8 @@ Material readMaterial(const TomlTableReader& root, const std::string& file,
         break;
     }
   }
+  const RuleProblem rule = materialRuleProblem(m);  // here, so that the message has a line
+  if (!rule.key.empty()) r.fail(rule.key, std::string(rule.requirement));
   return m;
 }
 

@@ -158,8 +158,13 @@ std::span<const TermSpec> contactTerms();
 const ParameterSpec* findParameter(std::string_view key,
                                    std::span<const ParameterSpec> table = materialParameters());
 
+/// The first broken rule between parameters (a term's `rule`, e.g. the constant tangential law
+/// needs its k_t), or an empty key when every rule holds.
+RuleProblem materialRuleProblem(const Material& material);
+
 /// The one validation of a material: every parameter accepted by its declaration, else
-/// ConfigError "material.KEY = VALUE UNIT: must be ...".
+/// ConfigError "material.KEY = VALUE UNIT: must be ..."; then the terms' rules, else
+/// ConfigError "material.KEY = VALUE: needs ...".
 void validateMaterial(const Material& material,
                       std::span<const ParameterSpec> table = materialParameters());
 

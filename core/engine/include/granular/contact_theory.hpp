@@ -37,7 +37,9 @@ ImpactPrediction hertzUndampedImpact(double hertzConstant, double reducedMass,
 /// The shortest contact among the pairs a scene can produce: the smallest particle against a wall
 /// and against another smallest particle (for Hooke these two have the same k/m; for Hertz the pair
 /// is shorter). For Hertz, whose duration depends on the impact speed, `impactSpeed` [m/s] is the
-/// largest approach speed expected; it is ignored for Hooke.
+/// largest approach speed expected; it is ignored for Hooke. With friction and the constant
+/// tangential law, a contact's duration is the shorter of the normal force's and the tangential
+/// spring's half-period π √(m_ij/(3.5 k_t)).
 struct ContactScale {
   double duration = 0;       ///< force duration of the stiffest contact [s]
   double radius = 0;         ///< radius of the particle in that contact [m]

@@ -1,9 +1,11 @@
 #pragma once
 /// Tangential spring with history and the Coulomb cap (docs/physics.md §1, Eqs. (4)-(5)): the
-/// force −k_t ξ, k_t = (8/3) G √(R h)/(2−ν), of the stretch ξ accumulated while the contact
-/// lasts, capped at μ |F_n|. The stored stretch is first turned into the current tangent plane
-/// keeping its length (the contact frame turns with the particles; the stretch does not grow or
-/// shrink by it); while sliding it is reset so that the spring alone carries the cap.
+/// force −k_t ξ of the stretch ξ accumulated while the contact lasts, capped at μ |F_n|, with the
+/// paper's k_t = (8/3) G √(R h)/(2−ν) (Mindlin's, the default) or a constant k_t (the
+/// linear-history spring of other codes, for comparison). The stored stretch is first turned
+/// into the current tangent plane keeping its length (the contact frame turns with the particles;
+/// the stretch does not grow or shrink by it); while sliding it is reset so that the spring alone
+/// carries the cap.
 #include <cmath>
 #include <cstddef>
 #include <tuple>
@@ -13,11 +15,20 @@
 
 namespace granular {
 
+/// How k_t depends on the contact: Mindlin's (8/3) G/(2−ν) √(R h), the paper's, or a constant.
+enum class TangentialLaw { Mindlin, Constant };
+
 struct TangentialSpring {
   static constexpr std::string_view name = "tangential_spring";
+  static constexpr std::string_view kLawNames[] = {"mindlin", "constant"};
+
   struct Parameters {
     double friction = 0.0;         ///< Coulomb friction coefficient μ [-], particles and walls
     double shearModulus = 0.11e6;  ///< shear modulus G [Pa]
+    TangentialLaw tangentialLaw = TangentialLaw::Mindlin;  ///< how k_t depends on the contact
+    /// k_t of the constant law [N/m]; 0 (unset) is refused with it and friction; Mindlin's
+    /// ignores it.
+    double tangentialStiffness = 0.0;
 
     /// True when the tangential force can be non-zero: the Coulomb cap μ|F_n| is then positive.
     /// With μ = 0 the tangential force is min(|F_st|, 0) = 0 whatever γt is, so the scene needs
@@ -31,7 +42,24 @@ struct TangentialSpring {
                                   &Parameters::friction},
       NumberParameter<Parameters>{"shear_modulus", "G", "Pa", ValueRange::aboveUpTo(0, 1e12),
                                   "shear modulus", &Parameters::shearModulus},
+      ChoiceParameter<Parameters, TangentialLaw>{
+          "tangential_law", "k_t", kLawNames,
+          "k_t = (8/3)G/(2−ν)·√(R h) (mindlin, the paper's) or tangential_stiffness (constant)",
+          &Parameters::tangentialLaw},
+      NumberParameter<Parameters>{"tangential_stiffness", "k_t", "N/m", ValueRange::closed(0, 1e12),
+                                  "k_t of the constant law (needed by it, > 0; unused by mindlin)",
+                                  &Parameters::tangentialStiffness},
   };
+  /// With friction, the constant law has no k_t without tangential_stiffness: refused rather
+  /// than read as 0 (which would switch the spring off) or as Mindlin's. Without friction the
+  /// spring acts on nothing, as γt does (requireStableTangentialDamping).
+  static RuleProblem rule(const Parameters& p) {
+    if (p.hasFriction() && p.tangentialLaw == TangentialLaw::Constant &&
+        !(p.tangentialStiffness > 0.0)) {
+      return {"tangential_law", "needs tangential_stiffness > 0 N/m, the constant law's k_t"};
+    }
+    return {};
+  }
   /// Per contact: the stretch ξ [m] (three slots, in the current tangent plane) and k_t at the
   /// previous step [N/m], for the stiffness-work term.
   static constexpr std::string_view kHistory[] = {"stretch_x", "stretch_y", "stretch_z",
@@ -43,12 +71,14 @@ struct TangentialSpring {
        "by Coulomb sliding: the rest of the tangential forces' work"},
       {"tangential_stiffness_work_J", EnergyKind::Supplied, "tangential",
        "gained by the spring when k_t ∝ √(R h) changes at fixed ξ (the Mindlin-type spring is "
-       "not conservative)"},
+       "not conservative; 0 with a constant k_t)"},
       {"tangential_work_J", EnergyKind::Work, "tangential",
        "work of the capped tangential force on the contact points' relative motion"}};
   static constexpr std::span<const EnergyTerm> energy{kEnergy};
   static constexpr bool needsFriction = true;
-  static constexpr std::string_view stableStep = "k_t <= k_n: covered by the normal law's duration";
+  static constexpr std::string_view stableStep =
+      "mindlin: k_t <= k_n, covered by the normal law's duration; constant: the half-period "
+      "π √(m_ij/(3.5 k_t)) of a sticking contact joins the durations the step must resolve";
 
   /// First loop: the contact points' tangential velocity, the stored stretch turned (and with
   /// kAdvance advanced), k_t, the stiffness work, and the trial force −k_t ξ.
@@ -64,7 +94,8 @@ struct TangentialSpring {
     double* const kts = c.template history<TangentialSpring>(3);
     double sx = sxs[e], sy = sys[e], sz = szs[e];
     const double length2 = turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz, k.dt, sx, sy, sz);
-    const double kt = stiffness(k.tangentialCoefficient, lane.radius, lane.h);
+    const double kt =
+        stiffness(k.tangentialCoefficient, k.tangentialStiffness, lane.radius, lane.h);
     c.template energy<TangentialSpring>(2)[e] = kAdvance ? 0.5 * (kt - kts[e]) * length2 : 0.0;
     lane.tx = -kt * sx;
     lane.ty = -kt * sy;
@@ -112,9 +143,14 @@ struct TangentialSpring {
     return slot[3] >= 0.0 ? nullptr : "a tangential stiffness is negative";
   }
 
-  /// k_t = (8/3) G/(2−ν) √(R h) (coefficient: (8/3) G/(2−ν)) [N/m].
-  [[gnu::always_inline]] static double stiffness(double coefficient, double radius, double h) {
-    return coefficient * std::sqrt(radius * h);
+  /// k_t [N/m]: `constant` when positive (the constant law), else Mindlin's
+  /// (8/3) G/(2−ν) √(R h) (coefficient: (8/3) G/(2−ν)). A select of two computed values, not a
+  /// branch, so that the contact loops stay vector code; Mindlin's value is the same bits as
+  /// without the constant law.
+  [[gnu::always_inline]] static double stiffness(double coefficient, double constant, double radius,
+                                                 double h) {
+    const double mindlin = coefficient * std::sqrt(radius * h);
+    return constant > 0.0 ? constant : mindlin;
   }
 
   /// The stored stretch s turned into the tangent plane of n keeping its length; with kAdvance

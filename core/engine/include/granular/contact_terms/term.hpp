@@ -12,6 +12,8 @@
 ///     whether it acts only where friction is on (its accounts and history are then left out
 ///     of a frictionless scene's pass);
 ///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
+///   - optionally `rule`: a rule between its parameters that no single range states, returning
+///     a RuleProblem (validateMaterial and the scene loader apply it);
 ///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them).
 /// Everything that lists material parameters (the scene loader, the one validation, the state
 /// checks, the checkpoint, the scene fingerprint, the GUI, the docs test) reads these
@@ -74,6 +76,13 @@ struct FlagParameter {
   std::string_view symbol;
   std::string_view doc;
   bool P::*field;
+};
+
+/// A broken rule between parameters: the key it is reported at and what the rule requires
+/// ("needs tangential_stiffness > 0 N/m, ..."); an empty key when the rule holds.
+struct RuleProblem {
+  std::string_view key;
+  std::string_view requirement;
 };
 
 /// What an energy account of the ledger is (EnergyBalance::total adds them with these signs):
