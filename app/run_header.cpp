@@ -63,8 +63,11 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
   out << "friction    "
       << (sim.frictional() ? "on (mu = " + format("%g", config.material.friction) +
                                  "): tangential forces and rotations integrated"
-                           : std::string("off (mu = 0): no tangential forces, no rotations"))
-      << "\n";
+                           : std::string("off (mu = 0): no tangential forces, no rotations"));
+  if (sim.frictional() && config.material.tangentialLaw == TangentialLaw::Constant) {
+    out << "; constant k_t = " << format("%.6g", config.material.tangentialStiffness) << " N/m";
+  }
+  out << "\n";
   out << "walls      ";
   for (const Wall& wall : sim.walls()) out << " " << wall.name;
   out << "\nstages     ";

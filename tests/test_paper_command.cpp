@@ -1,6 +1,7 @@
 /// `granular paper` end to end on the reduced scene (tests/scenes/reduced-compaction.toml, 288
 /// spheres, 0.1 s of compaction) standing in for both of the paper's cases: the report, the
-/// figures, and the ParaView series of the compaction read back with VTK's reader.
+/// figures, the ParaView series of the compaction read back with VTK's reader, and the
+/// sensitivity study's constant-k_t bed and seeds.
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -9,11 +10,13 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 
+#include "granular/checkpoint.hpp"
 #include "paper_command.hpp"
 #include "paper_figures.hpp"
 
@@ -58,18 +61,51 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   options.scenesDir = dir / "scenes";
   options.outDir = dir / "out";
   options.quiet = true;
+  options.sensitivity = true;
+  options.seeds = 2;
   testing::internal::CaptureStdout();
   const int status = granular::app::paperCommand(options);
   testing::internal::GetCapturedStdout();
   ASSERT_EQ(status, 0);
 
   const std::string report = readText(options.outDir / "report.md");
+  EXPECT_NE(report.find("## Sensitivity: a constant tangential stiffness"), std::string::npos);
+  EXPECT_NE(report.find("### Over 2 seeds"), std::string::npos);
+  // The sensitivity bed's k_t is Mindlin's at the μ = 0.3 bed's mean reduced radius and overlap
+  // over its contacts (pairs once, walls with R_ij = R_i), recomputed from its checkpoint.
+  {
+    const granular::Simulation settled =
+        granular::readCheckpoint(options.outDir / "mu03/settled.ckpt");
+    const granular::Particles& p = settled.particles();
+    double radius = 0, overlap = 0, count = 0;
+    settled.forEachContact([&](const granular::ContactView& v) {
+      if (!v.isWall() && v.otherParticle() < v.particle) return;
+      const double ri = p.radius[v.particle];
+      const double rj = v.isWall() ? 0 : p.radius[v.otherParticle()];
+      radius += v.isWall() ? ri : ri * rj / (ri + rj);
+      overlap += v.overlap;
+      ++count;
+    });
+    const double kt = settled.config().material.tangentialCoefficient() *
+                      std::sqrt(radius / count * overlap / count);
+    const granular::Simulation constant =
+        granular::readCheckpoint(options.outDir / "mu03_constant_kt/settled.ckpt");
+    EXPECT_EQ(constant.config().material.tangentialLaw, granular::TangentialLaw::Constant);
+    EXPECT_NEAR(constant.config().material.tangentialStiffness, kt, 1e-12 * kt);
+  }
+  // --sensitivity: each law from the scene's seed (5) and the next, the same k_t for both.
+  const std::string seeds = readText(options.outDir / "sensitivity/seeds.csv");
+  for (const char* row : {"\n5,mindlin,0,", "\n6,mindlin,0,", "\n5,constant,", "\n6,constant,"}) {
+    EXPECT_NE(seeds.find(row), std::string::npos) << row << " in\n" << seeds;
+  }
+  EXPECT_TRUE(fs::exists(options.outDir / "sensitivity/seed6_constant_kt/fields/midsection.csv"));
   EXPECT_NE(report.find("Eq. (1)"), std::string::npos);
   EXPECT_NE(report.find("μ = 0.1 (compared with the paper's μ = 0)"), std::string::npos);
   EXPECT_EQ(report.find("### μ = 0\n"), std::string::npos);
-  for (const char* figure : {"fig02_falling_mu0", "fig03_settled_mu0", "fig04_forces_mu0",
-                             "fig05_stresses_mu0", "fig06_settled_mu03", "fig07_forces_mu03",
-                             "fig08_stresses_mu03", "fig09_sigma33", "fig10_trajectories"}) {
+  for (const char* figure :
+       {"fig02_falling_mu0", "fig03_settled_mu0", "fig04_forces_mu0", "fig05_stresses_mu0",
+        "fig06_settled_mu03", "fig07_forces_mu03", "fig08_stresses_mu03", "fig09_sigma33",
+        "fig10_trajectories", "fig09_sigma33_constant_kt", "fig10_trajectories_constant_kt"}) {
     EXPECT_GT(fs::file_size(options.outDir / "figures" / (std::string(figure) + ".png")), 1000u)
         << figure;
   }
@@ -122,8 +158,8 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   EXPECT_EQ(granular::app::figuresCommand(partial), 1);
   testing::internal::GetCapturedStdout();
   const std::string message = testing::internal::GetCapturedStderr();
-  // Of 16 figures, 8 need mu0/: Fig. 2, Figs. 3-5 and the four of its stress fields.
-  EXPECT_NE(message.find("drew 8 of 16 figures"), std::string::npos) << message;
+  // Of 18 figures, 8 need mu0/: Fig. 2, Figs. 3-5 and the four of its stress fields.
+  EXPECT_NE(message.find("drew 10 of 18 figures"), std::string::npos) << message;
   EXPECT_NE(message.find("fig02_falling_mu0.png (mu0/falling_t1.csv is missing)"),
             std::string::npos)
       << message;

@@ -1,5 +1,5 @@
-/// `granular paper` (paper_command.hpp). Sections: 1. files of a case; 2. one case; 3. both and
-/// the report.
+/// `granular paper` (paper_command.hpp). Sections: 1. files of a case; 2. one case, and the
+/// sensitivity runs; 3. both and the report.
 #include "paper_command.hpp"
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <variant>
 
 #include "csv_input.hpp"
 #include "csv_output.hpp"
@@ -179,20 +180,87 @@ class CompactionParaview {
 
 // 2. One case -------------------------------------------------------------------------------------
 
-CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
-                    ProgressReporter& progress) {
+/// Mean reduced radius and overlap of the bed's contacts: each particle pair once (from its lower
+/// index), each particle-wall contact once with R_ij = R_i (a wall is a body of infinite radius).
+BedContacts bedContacts(const Simulation& sim) {
+  const Particles& p = sim.particles();
+  const double coefficient = sim.config().material.tangentialCoefficient();
+  BedContacts bed;
+  double radius = 0, overlap = 0, sideStiffness = 0;
+  std::size_t side = 0;
+  sim.forEachContact([&](const ContactView& v) {
+    if (!v.isWall() && v.otherParticle() < v.particle) return;
+    const double ri = p.radius[v.particle];
+    const double rj = v.isWall() ? 0.0 : p.radius[v.otherParticle()];
+    radius += v.isWall() ? ri : ri * rj / (ri + rj);
+    overlap += v.overlap;
+    ++bed.count;
+    const std::string& wall = v.isWall() ? sim.walls()[v.wall()].name : std::string();
+    if (wall == "x-" || wall == "x+" || wall == "y-" || wall == "y+") {
+      sideStiffness += coefficient * std::sqrt(ri * v.overlap);
+      ++side;
+    }
+  });
+  if (bed.count > 0) {
+    bed.meanRadius = radius / double(bed.count);
+    bed.meanOverlap = overlap / double(bed.count);
+  }
+  if (side > 0) bed.sideWallMindlin = sideStiffness / double(side);
+  return bed;
+}
+
+/// The scene of a case: the paper's, with the constant tangential law at `constantStiffness`
+/// when positive and the grid's seed replaced when `seed` is given.
+Scene caseScene(const std::filesystem::path& sceneFile, double constantStiffness,
+                std::optional<std::uint64_t> seed) {
+  Scene scene = loadScene(sceneFile);
+  if (constantStiffness > 0) {
+    scene.simulation.material.tangentialLaw = TangentialLaw::Constant;
+    scene.simulation.material.tangentialStiffness = constantStiffness;
+  }
+  if (seed) {
+    auto* grid =
+        scene.generators.size() == 1 ? std::get_if<GridGenerator>(&scene.generators[0]) : nullptr;
+    if (!grid) {
+      throw ConfigError(sceneFile.string() +
+                        ": --sensitivity varies the seed of the particles' grid, and this scene "
+                        "has no single [[particles]] grid");
+    }
+    grid->seed = *seed;
+  }
+  return scene;
+}
+
+std::uint64_t gridSeed(const Scene& scene) {
+  const auto* grid =
+      scene.generators.size() == 1 ? std::get_if<GridGenerator>(&scene.generators[0]) : nullptr;
+  return grid ? grid->seed : 0;
+}
+
+/// One case into options.outDir/folder: the paper's scene, or with `constantStiffness` > 0 the
+/// same scene with the constant tangential law.
+CaseOutcome runCase(const PaperReference& ref, const std::string& folder, double constantStiffness,
+                    const PaperOptions& options, ProgressReporter& progress) {
   const auto start = std::chrono::steady_clock::now();
   const std::filesystem::path sceneFile = options.scenesDir / ref.scene;
-  const Scene scene = loadScene(sceneFile);
-  const std::filesystem::path dir = options.outDir / ref.name;
+  const Scene scene = caseScene(sceneFile, constantStiffness, std::nullopt);
+  const std::filesystem::path dir = options.outDir / folder;
   createOutputFolder(dir);
   const std::filesystem::path checkpoint = dir / "settled.ckpt";
   if (options.fresh) std::filesystem::remove(checkpoint);
-  writeTextFile(dir / "case.txt", "scene = " + sceneFile.string() + "\nfriction = " +
-                                      csvNumber(scene.simulation.material.friction) + "\n");
+  std::string caseText = "scene = " + sceneFile.string() +
+                         "\nfriction = " + csvNumber(scene.simulation.material.friction) + "\n";
+  if (constantStiffness > 0) {
+    caseText += "tangential_law = constant\ntangential_stiffness_N_per_m = " +
+                csvNumber(constantStiffness) + "\n";
+  }
+  writeTextFile(dir / "case.txt", caseText);
 
   CaseOutcome outcome;
   outcome.reference = &ref;
+  outcome.folder = folder;
+  outcome.constantStiffness = constantStiffness;
+  outcome.seed = gridSeed(scene);
   std::unique_ptr<TimeSeriesWriter> settleSeries;  // opened only if stage 1 really runs
   TimeSeriesWriter compactSeries(dir / "compaction_timeseries.csv", reactionWallNames(scene));
   CompactionParaview paraview(dir, scene);
@@ -224,6 +292,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
                             particleForceSums(sim));
     writeBox(dir / "box.txt", sim);
     outcome.fields = writeStressFields(sim, dir);
+    outcome.bed = bedContacts(sim);
   };
   run.onSample = [&](const Simulation& sim, const std::string& stage) {
     if (stage == settleStage.name) {
@@ -239,7 +308,7 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   };
   run.onProgress = [&](const Simulation& sim, const StageSpec& stage) {
     progress.update(sim, stage);
-    stopIfSignalled("case " + std::string(ref.name) + " is incomplete; run the same command again" +
+    stopIfSignalled("case " + folder + " is incomplete; run the same command again" +
                     (stage.name == settleStage.name
                          ? std::string(" (stage 1 starts again)")
                          : " (stage 1 is restored from " + checkpoint.string() + ")"));
@@ -288,6 +357,87 @@ CaseOutcome runCase(const PaperReference& ref, const PaperOptions& options,
   return outcome;
 }
 
+/// One bed of --sensitivity into `dir`: both stages with the settled checkpoint and the stress
+/// fields, none of a case's other files (time series, ParaView, figure data).
+CaseOutcome runSeed(const PaperReference& ref, const Scene& scene, const std::filesystem::path& dir,
+                    double constantStiffness, const PaperOptions& options,
+                    ProgressReporter& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  createOutputFolder(dir);
+  CaseOutcome outcome;
+  outcome.reference = &ref;
+  outcome.folder = dir.filename().string();
+  outcome.constantStiffness = constantStiffness;
+  outcome.seed = gridSeed(scene);
+  CompactionOptions run;
+  run.checkpoint = dir / "settled.ckpt";
+  if (options.fresh) std::filesystem::remove(run.checkpoint);
+  run.fingerprint = fingerprintScene(scene);
+  run.onStart = [&](const Simulation& sim) {
+    outcome.density = sim.config().material.density;
+    outcome.friction = sim.config().material.friction;
+    outcome.timeStep = sim.config().timeStep;
+    outcome.boxSide =
+        sim.walls()[sim.findWall("x+")].point.x() - sim.walls()[sim.findWall("x-")].point.x();
+  };
+  run.onSettled = [&](const Simulation& sim) {
+    outcome.fields = writeStressFields(sim, dir);
+    outcome.bed = bedContacts(sim);
+  };
+  run.onProgress = [&](const Simulation& sim, const StageSpec& stage) {
+    progress.update(sim, stage);
+    stopIfSignalled(
+        "the sensitivity runs are incomplete; run the same command again (the beds "
+        "settled so far are restored)");
+  };
+  outcome.result = runCompaction(scene, run);
+  progress.finish();
+  outcome.wallSeconds = secondsSince(start);
+  return outcome;
+}
+
+/// The report's sensitivity study: the μ = 0.3 case with the constant law at the Mindlin k_t of
+/// its settled bed's R̄ and h̄, and with --sensitivity both laws from more seeds.
+SensitivityOutcome runSensitivity(const CaseOutcome& mindlin, const PaperOptions& options,
+                                  ProgressReporter& progress) {
+  SensitivityOutcome s;
+  s.defaultSeeds = kSensitivitySeeds;
+  if (mindlin.friction == 0) {
+    s.skipped = "the " + mindlin.folder +
+                " scene has no friction, so the tangential spring carries no force under either "
+                "law";
+    return s;
+  }
+  const PaperReference& ref = *mindlin.reference;
+  const Scene scene = loadScene(options.scenesDir / ref.scene);
+  s.coefficient = scene.simulation.material.tangentialCoefficient();
+  s.bed = mindlin.bed;
+  s.stiffness = s.coefficient * std::sqrt(s.bed.meanRadius * s.bed.meanOverlap);
+  std::cout << "\n== case " << ref.name
+            << "_constant_kt: constant k_t = " << format("%.6g", s.stiffness) << " N/m ==\n";
+  s.constant = runCase(ref, std::string(ref.name) + "_constant_kt", s.stiffness, options, progress);
+  if (!options.sensitivity) return s;
+
+  const auto start = std::chrono::steady_clock::now();
+  s.mindlinSeeds.push_back(mindlin);
+  s.constantSeeds.push_back(*s.constant);
+  const std::filesystem::path root = options.outDir / "sensitivity";
+  for (int k = 1; k < options.seeds; ++k) {
+    const std::uint64_t seed = mindlin.seed + std::uint64_t(k);
+    for (const double stiffness : {0.0, s.stiffness}) {
+      const std::string name =
+          "seed" + std::to_string(seed) + (stiffness > 0 ? "_constant_kt" : "_mindlin");
+      std::cout << "== sensitivity: " << name << " ==\n";
+      const Scene seeded = caseScene(options.scenesDir / ref.scene, stiffness, seed);
+      CaseOutcome run = runSeed(ref, seeded, root / name, stiffness, options, progress);
+      (stiffness > 0 ? s.constantSeeds : s.mindlinSeeds).push_back(std::move(run));
+    }
+  }
+  writeTextFile(root / "seeds.csv", sensitivityCsv(s));
+  s.seedSeconds = secondsSince(start);
+  return s;
+}
+
 // 3. Both cases and the report --------------------------------------------------------------------
 
 /// A folder `granular paper` may write into: new, empty, or one it wrote before (holding a
@@ -314,11 +464,16 @@ int runPaper(const PaperOptions& options) {
   checkOutputFolder(options);
   createOutputFolder(options.outDir);
   ProgressReporter progress(!options.quiet);
+  if (options.sensitivity && options.seeds < 2) {
+    throw ConfigError("--seeds " + std::to_string(options.seeds) +
+                      ": must be at least 2 (the paper's seed and one more) for a spread");
+  }
   std::vector<CaseOutcome> cases;
   for (const PaperReference& ref : kPaperCases) {
     std::cout << "\n== case " << ref.name << " ==\n";
-    cases.push_back(runCase(ref, options, progress));
+    cases.push_back(runCase(ref, ref.name, 0.0, options, progress));
   }
+  const SensitivityOutcome sensitivity = runSensitivity(cases.back(), options, progress);
   std::vector<FigureFile> figures;
   try {
     FigureSet set = drawPaperFigures(options.outDir);
@@ -335,7 +490,7 @@ int runPaper(const PaperOptions& options) {
     std::cerr << "warning: figures not drawn: " << e.what() << "\n";
   }
   const double total = secondsSince(start);
-  writeTextFile(options.outDir / "report.md", paperReport(cases, figures, total));
+  writeTextFile(options.outDir / "report.md", paperReport(cases, sensitivity, figures, total));
   std::cout << "\nwrote " << (options.outDir / "report.md").string() << " ("
             << format("%.1f", total) << " s wall-clock)\n";
   return 0;

@@ -350,6 +350,43 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
          {rel / "profiles.csv"},
          [&] { return profileFigure(readCsv(fields / "profiles.csv"), label, frictional); });
   }
+  // The sensitivity study's bed (report.md, "Sensitivity"): the μ = 0.3 case with a constant
+  // k_t, Figs. 9 and 10 again. A run has it unless its μ = 0.3 case had no friction.
+  const std::filesystem::path mu03 = runDir / kCases[1].name;
+  const bool frictionless =
+      std::filesystem::exists(mu03 / "case.txt") &&
+      numberAt(readKeyValues(mu03 / "case.txt"), "friction", mu03 / "case.txt") == 0.0;
+  if (!frictionless) {
+    const std::string name = kCases[1].name + "_constant_kt";
+    const std::filesystem::path dir = runDir / name, fields = dir / "fields",
+                                rel = name + "/fields";
+    std::string label = caseLabel(dir, kCases[1]) + ", constant k_t";
+    if (std::filesystem::exists(dir / "case.txt")) {
+      const auto kv = readKeyValues(dir / "case.txt");
+      if (kv.count("tangential_stiffness_N_per_m")) {
+        label += " = " +
+                 format("%.0f", numberAt(kv, "tangential_stiffness_N_per_m", dir / "case.txt")) +
+                 " N/m";
+      }
+    }
+    draw("fig09_sigma33_constant_kt.png",
+         "Fig. 9 with a constant tangential stiffness (sensitivity): σ33 on the midsection "
+         "y = L/2 from representative spheres (Eq. 1), " +
+             label,
+         {rel / "midsection.csv"}, [&] {
+           return sigma33Figure(readCsv(fields / "midsection.csv"), "s33_rep_Pa",
+                                "σ₃₃ on the midsection, end of stage 1 (" + label + ")");
+         });
+    draw("fig10_trajectories_constant_kt.png",
+         "Fig. 10 with a constant tangential stiffness (sensitivity): trajectories of σ1 on the "
+         "midsection, " +
+             label,
+         {rel / "midsection.csv", rel / "trajectories.csv"}, [&] {
+           return trajectoryFigure(readCsv(fields / "midsection.csv"),
+                                   readCsv(fields / "trajectories.csv"),
+                                   "Trajectories of σ₁, end of stage 1 (" + label + ")");
+         });
+  }
   return set;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// The paper's figures, drawn from the files a `granular paper` run folder holds (no simulation):
 /// Fig. 2 falling particles, Figs. 3 and 6 settled beds coloured by Σ|F_ij|, Figs. 4 and 7 wall
-/// reactions, Figs. 5 and 8 stresses of Eq. (1) and Eq. (2), and the settling kinetic energy.
+/// reactions, Figs. 5 and 8 stresses of Eq. (1) and Eq. (2), the settling kinetic energy, and
+/// Figs. 9 and 10 of the sensitivity study's constant-k_t bed.
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -20,8 +21,9 @@ struct FigureSet {
   std::vector<std::string> missing;  ///< "fig02_falling_mu0.png (mu0/falling_t1.csv is missing)"
 };
 
-/// Draws into RUN_DIR/figures/ every figure whose data exist (16 for a whole run); labels each
-/// case with the friction its case.txt records. Throws IoError on unreadable data or a failed
+/// Draws into RUN_DIR/figures/ every figure whose data exist (18 for a whole run: 16 of the two
+/// cases, Figs. 9 and 10 of the constant-k_t bed); labels each case with the friction its
+/// case.txt records. Throws IoError on unreadable data or a failed
 /// write, render::RenderError without OpenGL.
 FigureSet drawPaperFigures(const std::filesystem::path& runDir);
 
