@@ -223,6 +223,17 @@ TEST(TangentialLaw, AStiffConstantSpringShortensTheStepLimitToItsHalfPeriod) {
   EXPECT_NEAR(stiff.duration, std::numbers::pi * std::sqrt(0.5 * m / (3.5 * kt)),
               1e-12 * stiff.duration);
   EXPECT_FALSE(stiff.againstWall);
+  EXPECT_TRUE(stiff.tangentialSpring);
+  EXPECT_FALSE(stiffestContact(soft, kR, 1.0).tangentialSpring);
+  // The refusal names what sets the limit.
+  try {
+    requireStableStep(stiff.duration / 5, stiff, Integrator::Gear5);
+    ADD_FAILURE() << "a step of a fifth of the half-period was accepted under gear5";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("half-period"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("constant tangential spring"), std::string::npos)
+        << e.what();
+  }
   // Without friction the tangential spring does nothing and limits nothing.
   EXPECT_EQ(stiffestContact(constantLaw(kt, 0.0), kR, 1.0).duration, normal);
 }

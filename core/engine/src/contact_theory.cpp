@@ -82,26 +82,32 @@ double normalDuration(const Material& mat, double reducedRadius, double reducedM
 /// a constant k_t can be set stiffer: a sticking contact point then oscillates at
 /// √(3.5 k_t/m_ij) (kTangentialRatePerContact: translation and rotation of both spheres), and
 /// the step must resolve that half-period as it does the normal one.
-double contactDuration(const Material& mat, double reducedRadius, double reducedMass,
-                       double impactSpeed) {
+struct Duration {
+  double seconds;
+  bool tangential;  ///< the constant tangential spring's half-period, not the normal contact
+};
+Duration contactDuration(const Material& mat, double reducedRadius, double reducedMass,
+                         double impactSpeed) {
   const double normal = normalDuration(mat, reducedRadius, reducedMass, impactSpeed);
-  if (!mat.hasFriction() || mat.tangentialLaw != TangentialLaw::Constant) return normal;
+  if (!mat.hasFriction() || mat.tangentialLaw != TangentialLaw::Constant) return {normal, false};
   const double tangential =
       std::numbers::pi *
       std::sqrt(reducedMass / (kTangentialRatePerContact * mat.tangentialStiffness));
-  return std::min(normal, tangential);
+  return tangential < normal ? Duration{tangential, true} : Duration{normal, false};
 }
 
 }  // namespace
 
 ContactScale stiffestContact(const Material& mat, double r, double impactSpeed) {
   const double m = mat.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  const double wall = contactDuration(mat, r, m, impactSpeed);
-  const double pair = contactDuration(mat, 0.5 * r, 0.5 * m, impactSpeed);
+  const Duration wall = contactDuration(mat, r, m, impactSpeed);
+  const Duration pair = contactDuration(mat, 0.5 * r, 0.5 * m, impactSpeed);
   ContactScale s;
   s.radius = r;
-  s.againstWall = wall < pair;
-  s.duration = std::min(wall, pair);
+  s.againstWall = wall.seconds < pair.seconds;
+  const Duration& shorter = s.againstWall ? wall : pair;
+  s.duration = shorter.seconds;
+  s.tangentialSpring = shorter.tangential;
   return s;
 }
 

@@ -142,7 +142,11 @@ void requireStableStep(double dt, const ContactScale& scale, Integrator integrat
     std::ostringstream msg;
     msg << "time step " << dt << " s is above the stable limit " << limit << " s of "
         << (gear ? "gear5" : "velocity Verlet") << " = 1/" << (gear ? 50 : 10)
-        << " of the contact duration " << scale.duration << " s of the stiffest contact (radius "
+        << (scale.tangentialSpring
+                ? " of the half-period " + str(scale.duration) +
+                      " s of a sticking contact's constant tangential spring (the stiffest: radius "
+                : " of the contact duration " + str(scale.duration) +
+                      " s of the stiffest contact (radius ")
         << scale.radius << " m "
         << (scale.againstWall ? "against a wall" : "against an equal particle") << "); use at most "
         << limit << " s"

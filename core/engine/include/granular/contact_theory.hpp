@@ -44,6 +44,9 @@ struct ContactScale {
   double duration = 0;       ///< force duration of the stiffest contact [s]
   double radius = 0;         ///< radius of the particle in that contact [m]
   bool againstWall = false;  ///< the stiffest contact is particle-wall (else particle-particle)
+  /// The duration is a constant tangential spring's half-period (material.tangential_law =
+  /// "constant"), shorter than the normal contact's.
+  bool tangentialSpring = false;
 };
 ContactScale stiffestContact(const Material& material, double smallestRadius, double impactSpeed);
 
