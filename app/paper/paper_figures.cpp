@@ -375,7 +375,8 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
              label,
          {rel / "midsection.csv"}, [&] {
            return sigma33Figure(readCsv(fields / "midsection.csv"), "s33_rep_Pa",
-                                "σ₃₃ on the midsection, end of stage 1 (" + label + ")");
+                                // Shorter than Fig. 9's own title: the label is longer.
+                                "σ₃₃ at the end of stage 1 (" + label + ")");
          });
     draw("fig10_trajectories_constant_kt.png",
          "Fig. 10 with a constant tangential stiffness (sensitivity): trajectories of σ1 on the "
