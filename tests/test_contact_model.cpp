@@ -7,13 +7,16 @@
 
 #include <unistd.h>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "csv_output.hpp"
+#include "fnv1a.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
@@ -161,6 +164,38 @@ TEST(ContactModel, TheCheckpointCarriesEveryDeclaredParameter) {
   const auto values = materialValues(changed, table);
   ASSERT_EQ(values.size(), table.size());
   EXPECT_EQ(values.back().first, "dummy_stiffness");
+}
+
+TEST(ContactModel, ACheckpointsParameterOutsideItsDeclarationIsRefusedByName) {
+  SimulationConfig cfg;
+  cfg.timeStep = 1e-5;
+  const Simulation sim = testing::fallingGrid(1, 1, 1, cfg, 0.1);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() /
+      ("granular_contact_model_bad_" + std::to_string(::getpid()) + ".ckpt");
+  writeCheckpoint(sim, file, 42);
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  in.close();
+  // The material's (key, value) list near the end: the value after the last "normal_law" key.
+  const std::size_t at = bytes.rfind("normal_law");
+  ASSERT_NE(at, std::string::npos);
+  const double huge = 1e300;  // no choice; a cast of it to an integer would be undefined
+  std::memcpy(bytes.data() + at + std::strlen("normal_law"), &huge, sizeof huge);
+  const std::size_t frame = 8 + 4 + 8 + 8, payload = bytes.size() - frame - 8;
+  const std::uint64_t checksum = fnv1a(bytes.data() + frame, payload);
+  std::memcpy(bytes.data() + frame + payload, &checksum, sizeof checksum);
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), std::streamsize(bytes.size()));
+  try {
+    readCheckpoint(file, 42);
+    ADD_FAILURE() << "a law that is no choice was read";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.normal_law = 1e+300: must be one of"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(file);
 }
 
 TEST(ContactModel, TheFingerprintChangesWithEveryDeclaredParameter) {

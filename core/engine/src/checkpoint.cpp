@@ -496,6 +496,10 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
                               "', which this build's contact model does not declare (written by "
                               "a build with another contact term?)");
       }
+      if (!spec->accepts(p.value)) {
+        throw CheckpointError(name + ": corrupted checkpoint: material." + std::string(spec->key) +
+                              " = " + spec->valueText(p.value) + ": " + spec->requirement());
+      }
       spec->set(state->config.material, p.value);
     }
     std::vector<StoredAccount> accounts;

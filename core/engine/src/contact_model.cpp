@@ -46,7 +46,10 @@ ParameterSpec specOf() {
       return double(static_cast<int>(static_cast<const P&>(m).*(std::get<I>(T::parameters).field)));
     };
     s.set = [](Material& m, double v) {
-      static_cast<P&>(m).*(std::get<I>(T::parameters).field) = static_cast<E>(static_cast<int>(v));
+      // A value no choice has becomes −1, which validateMaterial refuses (never a cast of an
+      // out-of-range double).
+      static_cast<P&>(m).*(std::get<I>(T::parameters).field) =
+          static_cast<E>(v >= 0 && v < 1e9 ? static_cast<int>(v) : -1);
     };
   } else {
     s.unit = "-";
@@ -114,8 +117,10 @@ std::string quoted(std::string_view name) {
 std::string ParameterSpec::valueText(double value) const {
   switch (kind) {
     case ParameterKind::Choice: {
-      const auto at = static_cast<std::size_t>(value);
-      if (value >= 0 && at < names.size() && double(at) == value) return quoted(names[at]);
+      // Compared as doubles before the cast: a value from a corrupted file may be any double.
+      if (value >= 0 && value < double(names.size()) && value == std::floor(value)) {
+        return quoted(names[static_cast<std::size_t>(value)]);
+      }
       return formatNumber(value);
     }
     case ParameterKind::Flag:
