@@ -160,9 +160,7 @@ class Reader {
   /// The slot of the energy account with this column; a column this build does not declare is
   /// refused by name.
   std::size_t energySlot(std::string_view column) const {
-    for (const EnergyAccountSpec& a : energyAccounts()) {
-      if (a.account.column == column) return a.slot;
-    }
+    if (const EnergyAccountSpec* a = findEnergyAccount(column)) return a->slot;
     corrupted("it holds an energy account '" + printable(column) +
               "', which this build's contact model does not declare");
   }
@@ -289,11 +287,9 @@ void fields(Io& io, SimulationState& s) {
   ContactPowers& w = s.powers;
   EnergyAccumulators& e = s.energy;
   double unused = 0;  // an account this model does not declare (written as 0, read and dropped)
-  auto slot = [&](std::string_view column) -> std::optional<std::size_t> {
-    for (const EnergyAccountSpec& a : energyAccounts()) {
-      if (a.account.column == column) return a.slot;
-    }
-    return std::nullopt;
+  auto slot = [](std::string_view column) -> std::optional<std::size_t> {
+    const EnergyAccountSpec* a = findEnergyAccount(column);
+    return a ? std::optional<std::size_t>(a->slot) : std::nullopt;
   };
   auto now = [&](std::string_view column) -> double& {
     const auto at = slot(column);

@@ -165,6 +165,13 @@ std::span<const EnergyAccountSpec> energyAccounts() {
   return accounts;
 }
 
+const EnergyAccountSpec* findEnergyAccount(std::string_view column) {
+  for (const EnergyAccountSpec& a : energyAccounts()) {
+    if (a.account.column == column) return &a;
+  }
+  return nullptr;
+}
+
 std::span<const EnergyAccountSpec> energyColumns() {
   static const std::vector<EnergyAccountSpec> columns = [] {
     std::vector<EnergyAccountSpec> out;

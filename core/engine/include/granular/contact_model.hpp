@@ -146,6 +146,8 @@ struct EnergyAccountSpec {
 };
 /// Every energy account, slot by slot (term by term in ContactModel's order).
 std::span<const EnergyAccountSpec> energyAccounts();
+/// The energy account with this column ("elastic_tangential_J"), or nullptr.
+const EnergyAccountSpec* findEnergyAccount(std::string_view column);
 /// The ledger's columns, as the time series prints them: the Stored accounts, the Dissipated,
 /// the Slip, then the Supplied (Work accounts are not columns); each kind in term order.
 std::span<const EnergyAccountSpec> energyColumns();
