@@ -20,6 +20,7 @@
 /// wall is a body of infinite radius and mass moving with its prescribed velocity).
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "granular/contact_model.hpp"
 #include "simulation_state.hpp"
@@ -75,6 +76,7 @@ struct ContactChunk {
   // energy account (kEnergySlotTable: an energy, a power or an increment, by its kind).
   alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
   alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
+  alignas(64) double qx[kChunk], qy[kChunk], qz[kChunk];  ///< pure torque on i [N m] (kPureTorque)
   alignas(64) double energyRows[kEnergySlots][kChunk];
 
   /// Term T's history slot `slot` (its declared order), one entry per contact.
@@ -127,20 +129,82 @@ template <bool kFriction>
   }
 }
 
-/// Term T's first and second loop, where it has them and the build includes it (a term that
-/// needs friction is left out of the frictionless build).
-template <class T, bool kFriction, NormalLaw kLaw, bool kAdvance>
+/// A term is optional when it says when it acts (`static bool active(const Material&)`): the
+/// law is then built with and without it, and a scene that does not use it runs the build
+/// without (no code, no rows, no cost). kOptional holds one bit per optional term, in the model's
+/// order.
+template <class T>
+concept OptionalTerm = requires(const Material& m) {
+  T::active(m);
+};
+
+template <class T, class... Terms>
+constexpr int optionalIndexIn(TermList<Terms...>) {
+  int index = -1, at = 0;
+  ((std::is_same_v<T, Terms> ? (index = OptionalTerm<Terms> ? at : -1) : 0,
+    at += OptionalTerm<Terms> ? 1 : 0),
+   ...);
+  return index;
+}
+/// Term T's bit in kOptional, or −1 when T always acts.
+template <class T>
+inline constexpr int kOptionalIndex = optionalIndexIn<T>(ContactModel{});
+
+template <class... Terms>
+constexpr unsigned optionalCountIn(TermList<Terms...>) {
+  return ((OptionalTerm<Terms> ? 1u : 0u) + ... + 0u);
+}
+/// How many optional terms the model has (the law is built for 2^this masks).
+inline constexpr unsigned kOptionalTerms = optionalCountIn(ContactModel{});
+
+/// Whether a build (friction on or off, the optional terms in kOptional) includes term T.
+template <class T, bool kFriction, unsigned kOptional>
+inline constexpr bool kIncludes = (kFriction || !T::needsFriction) &&
+                                  (kOptionalIndex<T> < 0 || ((kOptional >> kOptionalIndex<T>)&1));
+
+/// The optional terms a material uses, as kOptional's bits.
+template <class... Terms>
+unsigned optionalMaskIn(TermList<Terms...>, const Material& m) {
+  unsigned mask = 0;
+  (
+      [&] {
+        if constexpr (OptionalTerm<Terms>) {
+          if (Terms::active(m)) mask |= 1u << kOptionalIndex<Terms>;
+        }
+      }(),
+      ...);
+  return mask;
+}
+inline unsigned optionalMask(const Material& m) {
+  return optionalMaskIn(ContactModel{}, m);
+}
+
+/// Whether a build includes a term that puts a pure torque on the bodies (rolling resistance:
+/// +q on i, −q on the other), which the force pass then adds beside the forces' moments.
+template <class... Terms, bool kFriction, unsigned kOptional>
+constexpr bool pureTorqueIn(TermList<Terms...>, std::bool_constant<kFriction>,
+                            std::integral_constant<unsigned, kOptional>) {
+  return ((kIncludes<Terms, kFriction, kOptional> && requires { Terms::pureTorque; }) || ...);
+}
+template <bool kFriction, unsigned kOptional>
+inline constexpr bool kPureTorque = pureTorqueIn(ContactModel{}, std::bool_constant<kFriction>{},
+                                                 std::integral_constant<unsigned, kOptional>{});
+
+/// Term T's first and second loop, where it has them and the build includes it.
+template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void firstOf(const ContactConstants& k, ContactChunk& c,
                                            std::size_t e, ContactLane& lane) {
   if constexpr (requires { T::template first<kLaw, kAdvance>(k, c, e, lane); }) {
-    if constexpr (kFriction || !T::needsFriction) T::template first<kLaw, kAdvance>(k, c, e, lane);
+    if constexpr (kIncludes<T, kFriction, kOptional>) {
+      T::template first<kLaw, kAdvance>(k, c, e, lane);
+    }
   }
 }
-template <class T, bool kAdvance>
+template <class T, unsigned kOptional, bool kAdvance>
 [[gnu::always_inline]] inline void secondOf(const ContactConstants& k, ContactChunk& c,
                                             std::size_t e, ContactLane& lane) {
   if constexpr (requires { T::template second<kAdvance>(k, c, e, lane); }) {
-    T::template second<kAdvance>(k, c, e, lane);
+    if constexpr (kIncludes<T, true, kOptional>) T::template second<kAdvance>(k, c, e, lane);
   }
 }
 
@@ -148,11 +212,11 @@ template <class T, bool kAdvance>
 /// tangential force. A function of its own, not the loop's body: the lane is then a local of an
 /// inlined call, which the compiler splits into registers, rather than a variable of the simd
 /// loop, which OpenMP would keep as an array of structs per lane and the vectoriser refuse.
-template <bool kFriction, NormalLaw kLaw, bool kAdvance, class... Terms>
+template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance, class... Terms>
 [[gnu::always_inline]] inline void firstLoopBody(TermList<Terms...>, const ContactConstants& k,
                                                  ContactChunk& c, std::size_t e) {
   ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
-  (firstOf<Terms, kFriction, kLaw, kAdvance>(k, c, e, lane), ...);
+  (firstOf<Terms, kFriction, kOptional, kLaw, kAdvance>(k, c, e, lane), ...);
   c.fx[e] = -lane.normal * lane.nx;
   c.fy[e] = -lane.normal * lane.ny;
   c.fz[e] = -lane.normal * lane.nz;
@@ -164,14 +228,19 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance, class... Terms>
 }
 
 /// One contact through every term's second loop: the caps; then the total force and n × F.
-template <bool kAdvance, class... Terms>
+template <unsigned kOptional, bool kAdvance, class... Terms>
 [[gnu::always_inline]] inline void secondLoopBody(TermList<Terms...>, const ContactConstants& k,
                                                   ContactChunk& c, std::size_t e) {
   ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
   lane.tx = c.tx[e];
   lane.ty = c.ty[e];
   lane.tz = c.tz[e];
-  (secondOf<Terms, kAdvance>(k, c, e, lane), ...);
+  (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
+  if constexpr (kPureTorque<true, kOptional>) {
+    c.qx[e] = lane.qx;
+    c.qy[e] = lane.qy;
+    c.qz[e] = lane.qz;
+  }
   const double fx = c.fx[e] + lane.tx, fy = c.fy[e] + lane.ty, fz = c.fz[e] + lane.tz;
   c.fx[e] = fx;
   c.fy[e] = fy;
@@ -190,7 +259,7 @@ template <bool kAdvance, class... Terms>
 /// capped at μ |F_n|. With kAdvance the history is advanced and written back; without, the
 /// force is evaluated for the stored history (measurements between steps). The composition is
 /// fixed at compile time, and a frictionless scene's build has no tangential code at all.
-template <bool kFriction, NormalLaw kLaw, bool kAdvance>
+template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void contactLaw(const ContactConstants& k, ContactChunk& c,
                                               std::size_t count) {
   // Two loops rather than one: each contact's chain of roots and divisions is long (the
@@ -198,11 +267,13 @@ template <bool kFriction, NormalLaw kLaw, bool kAdvance>
   // more contacts' chains; and the caps of the second need every force of the first.
 #pragma omp simd
   for (std::size_t e = 0; e < count; ++e) {
-    firstLoopBody<kFriction, kLaw, kAdvance>(ContactModel{}, k, c, e);
+    firstLoopBody<kFriction, kOptional, kLaw, kAdvance>(ContactModel{}, k, c, e);
   }
   if constexpr (kFriction) {
 #pragma omp simd
-    for (std::size_t e = 0; e < count; ++e) secondLoopBody<kAdvance>(ContactModel{}, k, c, e);
+    for (std::size_t e = 0; e < count; ++e) {
+      secondLoopBody<kOptional, kAdvance>(ContactModel{}, k, c, e);
+    }
   }
 }
 

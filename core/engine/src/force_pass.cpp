@@ -47,37 +47,56 @@ ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
 struct ChunkKernels {
   void (*geometry)(ContactChunk&, std::size_t, bool friction);
   void (*law)(const ContactConstants&, ContactChunk&, std::size_t, bool friction, NormalLaw,
-              bool advance);
+              bool advance, unsigned optional);
 };
 
 [[gnu::always_inline]] inline void geometryBody(ContactChunk& c, std::size_t m, bool friction) {
   friction ? pairGeometry<true>(c, m) : pairGeometry<false>(c, m);
 }
 
-[[gnu::always_inline]] inline void lawBody(const ContactConstants& constants, ContactChunk& c,
-                                           std::size_t m, bool friction, NormalLaw law,
-                                           bool advance) {
+/// The law's build for one mask of optional terms (contact_law.hpp, kOptional).
+template <unsigned kOptional>
+[[gnu::always_inline]] inline void lawOf(const ContactConstants& constants, ContactChunk& c,
+                                         std::size_t m, bool friction, NormalLaw law,
+                                         bool advance) {
   const bool hertz = law == NormalLaw::Hertz;
   if (friction) {
     if (hertz) {
-      advance ? contactLaw<true, NormalLaw::Hertz, true>(constants, c, m)
-              : contactLaw<true, NormalLaw::Hertz, false>(constants, c, m);
+      advance ? contactLaw<true, kOptional, NormalLaw::Hertz, true>(constants, c, m)
+              : contactLaw<true, kOptional, NormalLaw::Hertz, false>(constants, c, m);
     } else {
-      advance ? contactLaw<true, NormalLaw::Hooke, true>(constants, c, m)
-              : contactLaw<true, NormalLaw::Hooke, false>(constants, c, m);
+      advance ? contactLaw<true, kOptional, NormalLaw::Hooke, true>(constants, c, m)
+              : contactLaw<true, kOptional, NormalLaw::Hooke, false>(constants, c, m);
     }
   } else {  // no spring: advancing or not is the same
-    hertz ? contactLaw<false, NormalLaw::Hertz, true>(constants, c, m)
-          : contactLaw<false, NormalLaw::Hooke, true>(constants, c, m);
+    hertz ? contactLaw<false, kOptional, NormalLaw::Hertz, true>(constants, c, m)
+          : contactLaw<false, kOptional, NormalLaw::Hooke, true>(constants, c, m);
   }
+}
+
+template <unsigned... kMasks>
+[[gnu::always_inline]] inline void lawOfMask(std::integer_sequence<unsigned, kMasks...>,
+                                             const ContactConstants& constants, ContactChunk& c,
+                                             std::size_t m, bool friction, NormalLaw law,
+                                             bool advance, unsigned optional) {
+  ((optional == kMasks ? lawOf<kMasks>(constants, c, m, friction, law, advance) : void()), ...);
+}
+
+/// Every mask of the model's optional terms: 2^kOptionalTerms builds of the law.
+using OptionalMasks = std::make_integer_sequence<unsigned, (1u << kOptionalTerms)>;
+
+[[gnu::always_inline]] inline void lawBody(const ContactConstants& constants, ContactChunk& c,
+                                           std::size_t m, bool friction, NormalLaw law,
+                                           bool advance, unsigned optional) {
+  lawOfMask(OptionalMasks{}, constants, c, m, friction, law, advance, optional);
 }
 
 void geometryBaseline(ContactChunk& c, std::size_t m, bool friction) {
   geometryBody(c, m, friction);
 }
 void lawBaseline(const ContactConstants& constants, ContactChunk& c, std::size_t m, bool friction,
-                 NormalLaw law, bool advance) {
-  lawBody(constants, c, m, friction, law, advance);
+                 NormalLaw law, bool advance, unsigned optional) {
+  lawBody(constants, c, m, friction, law, advance, optional);
 }
 
 #if defined(__x86_64__)
@@ -85,8 +104,9 @@ void lawBaseline(const ContactConstants& constants, ContactChunk& c, std::size_t
   geometryBody(c, m, friction);
 }
 [[gnu::target("avx2")]] void lawAvx2(const ContactConstants& constants, ContactChunk& c,
-                                     std::size_t m, bool friction, NormalLaw law, bool advance) {
-  lawBody(constants, c, m, friction, law, advance);
+                                     std::size_t m, bool friction, NormalLaw law, bool advance,
+                                     unsigned optional) {
+  lawBody(constants, c, m, friction, law, advance, optional);
 }
 #endif
 
@@ -234,6 +254,10 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
 inline Vec3 forceOf(const ContactChunk& c, std::size_t e) {
   return {c.fx[e], c.fy[e], c.fz[e]};
 }
+/// A term's pure torque on i of the chunk's entry e (kPureTorque; −it on the other body).
+inline Vec3 pureTorqueOf(const ContactChunk& c, std::size_t e) {
+  return {c.qx[e], c.qy[e], c.qz[e]};
+}
 inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
   return {c.nx[e], c.ny[e], c.nz[e]};
 }
@@ -380,7 +404,7 @@ struct CandidateSpan {
 /// spring) and, with the same inputs, by its second's part, which adds only the second's share.
 /// The second's part reads the spring from a copy taken before the pass (crossingSpring), so
 /// the parts need no barrier and never write the same memory.
-template <bool kFriction, NormalLaw kLaw>
+template <bool kFriction, NormalLaw kLaw, unsigned kOptional>
 class PlannedPass {
  public:
   /// `aside`: this thread's array for the springs of a block set aside (SpringCursor).
@@ -430,12 +454,13 @@ class PlannedPass {
         return scratch_.crossingSpring[at[e]];
       });
       kern_.geometry(chunk, m, kFriction);
-      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+      kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t j = chunk.second[e];
         s_.force[j] -= forceOf(chunk, e);
         if constexpr (kFriction) {
           s_.torque[j] += chunk.armJ[e] * Vec3(chunk.mx[e], chunk.my[e], chunk.mz[e]);
+          if constexpr (kPureTorque<kFriction, kOptional>) s_.torque[j] -= pureTorqueOf(chunk, e);
         }
       }
     }
@@ -488,7 +513,7 @@ class PlannedPass {
                              [](std::size_t) -> const ContactHistory& { return kNoSpring; });
       }
       kern_.geometry(chunk, m, kFriction);
-      kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+      kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
       addChunkPowers<kFriction>(chunk, m, powers);
       powers.particleContacts += m;
       // Pairs come by ascending first particle: i's force and torque stay in registers over
@@ -520,6 +545,11 @@ class PlannedPass {
           const Vec3 moment(chunk.mx[e], chunk.my[e], chunk.mz[e]);
           torqueI += chunk.armI[e] * moment;
           if (ownsJ) s_.torque[j] += chunk.armJ[e] * moment;
+          if constexpr (kPureTorque<kFriction, kOptional>) {  // +q on i, −q on j
+            const Vec3 q = pureTorqueOf(chunk, e);
+            torqueI += q;
+            if (ownsJ) s_.torque[j] -= q;
+          }
         }
       }
       if (m > 0) {
@@ -559,7 +589,7 @@ class PlannedPass {
 
   void wallChunk(ContactChunk& chunk, std::size_t m, ContactPowers& powers, Vec3* reaction) {
     loadWallContacts<kFriction>(p_, list_, s_.walls, chunk, m);
-    kern_.law(constants_, chunk, m, kFriction, kLaw, true);
+    kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
     addChunkPowers<kFriction>(chunk, m, powers);
     powers.wallContacts += m;
     for (std::size_t e = 0; e < m; ++e) {
@@ -568,6 +598,7 @@ class PlannedPass {
       s_.force[i] += f;
       // d_ci × F on the particle, d_ci = a n.
       if constexpr (kFriction) s_.torque[i] += chunk.armI[e] * normalOf(chunk, e).cross(f);
+      if constexpr (kPureTorque<kFriction, kOptional>) s_.torque[i] += pureTorqueOf(chunk, e);
       powers.wallPower += f.dot(s_.walls[w].velocity);
       reaction[w] -= f;
     }
@@ -601,7 +632,7 @@ class PlannedPass {
 /// every particle receives its contacts in the same order for any thread count
 /// (ForcePlan), and the powers and wall reactions are summed per block and then in block
 /// order, so the result is the same bits.
-template <bool kFriction, NormalLaw kLaw>
+template <bool kFriction, NormalLaw kLaw, unsigned kOptional>
 int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoop* after) {
   NeighbourList& list = s.neighbours;
   const std::size_t n = s.particles.size(), walls = s.walls.size();
@@ -624,7 +655,7 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   out.springsSetAside.resize(static_cast<std::size_t>(threads));
   int failures = 0;  // the OR of `after`'s results
   if (threads == 1) {
-    PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsSetAside[0]);
+    PlannedPass<kFriction, kLaw, kOptional> pass(s, dt, &out.springsSetAside[0]);
     ContactChunk chunk;
     pass.ownedPhase(0, chunk);
     if (after) failures = (*after)(0, n);
@@ -634,7 +665,8 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
       // Parts are dealt round-robin, so the result holds if the runtime grants fewer threads.
       const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
       const std::size_t parts = static_cast<std::size_t>(threads);
-      PlannedPass<kFriction, kLaw> pass(s, dt, &out.springsSetAside[omp_get_thread_num()]);
+      PlannedPass<kFriction, kLaw, kOptional> pass(s, dt,
+                                                   &out.springsSetAside[omp_get_thread_num()]);
       ContactChunk chunk;  // per thread, on its stack
       for (std::size_t t = omp_get_thread_num(); t < parts; t += team) pass.ownedPhase(t, chunk);
       if (after) {
@@ -663,7 +695,7 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
 /// Every contact at the current state, serially and without advancing any spring: forces go to
 /// `force`, and `visit(i, other, point, F, n, h[, kind])` sees each contact once (kind: a wall;
 /// by default the other is a particle).
-template <bool kFriction, NormalLaw kLaw, class Visitor>
+template <bool kFriction, NormalLaw kLaw, unsigned kOptional, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
   const SimulationState& s = state;
   const ContactConstants c = constantsOf(s.config, s.config.timeStep);
@@ -683,7 +715,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       return springs->at(chunk.slot[e]);
     });
     kern.geometry(chunk, m, kFriction);
-    kern.law(c, chunk, m, kFriction, kLaw, false);
+    kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t i = chunk.first[e], j = chunk.second[e];
       const Vec3 f = forceOf(chunk, e);
@@ -699,7 +731,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       const std::size_t count = std::min(kChunk, candidates - begin);
       const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
       loadWallContacts<kFriction>(p, list, s.walls, chunk, m);
-      kern.law(c, chunk, m, kFriction, kLaw, false);
+      kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
         const Vec3 f = forceOf(chunk, e);
@@ -714,15 +746,22 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
 
 // ---- 4. Dispatch --------------------------------------------------------------------------
 
+template <bool kFriction, NormalLaw kLaw, class F, unsigned... kMasks>
+void withMask(std::integer_sequence<unsigned, kMasks...>, unsigned optional, F&& f) {
+  ((optional == kMasks ? f.template operator()<kFriction, kLaw, kMasks>() : void()), ...);
+}
+
+/// Calls f<kFriction, kLaw, kOptional>() for the scene's friction, normal law and optional terms.
 template <class F>
 void withLaw(const SimulationState& s, F&& f) {
   const bool hertz = s.config.material.normalLaw == NormalLaw::Hertz;
+  const unsigned optional = optionalMask(s.config.material);
   if (s.frictional) {
-    hertz ? f.template operator()<true, NormalLaw::Hertz>()
-          : f.template operator()<true, NormalLaw::Hooke>();
+    hertz ? withMask<true, NormalLaw::Hertz>(OptionalMasks{}, optional, f)
+          : withMask<true, NormalLaw::Hooke>(OptionalMasks{}, optional, f);
   } else {
-    hertz ? f.template operator()<false, NormalLaw::Hertz>()
-          : f.template operator()<false, NormalLaw::Hooke>();
+    hertz ? withMask<false, NormalLaw::Hertz>(OptionalMasks{}, optional, f)
+          : withMask<false, NormalLaw::Hooke>(OptionalMasks{}, optional, f);
   }
 }
 
@@ -741,8 +780,8 @@ bool setForceKernelBuild(ForceKernelBuild build) {
 int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
   const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
   int failures = 0;
-  withLaw(s, [&]<bool kFriction, NormalLaw kLaw>() {
-    failures = forcePass<kFriction, kLaw>(s, dt, threads, after);
+  withLaw(s, [&]<bool kFriction, NormalLaw kLaw, unsigned kOptional>() {
+    failures = forcePass<kFriction, kLaw, kOptional>(s, dt, threads, after);
   });
   return failures;
 }
@@ -757,8 +796,9 @@ void visitContacts(const SimulationState& s, const std::function<void(const Cont
     visit(ContactView{i, kind, other, point, f, n, h});
     if (kind == Other::Particle) visit(ContactView{other, Other::Particle, i, point, -f, -n, h});
   };
-  withLaw(
-      s, [&]<bool kFriction, NormalLaw kLaw>() { measuringPass<kFriction, kLaw>(s, force, each); });
+  withLaw(s, [&]<bool kFriction, NormalLaw kLaw, unsigned kOptional>() {
+    measuringPass<kFriction, kLaw, kOptional>(s, force, each);
+  });
   if (netForce) *netForce = std::move(force);
 }
 
