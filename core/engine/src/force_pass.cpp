@@ -255,7 +255,7 @@ inline Vec3 forceOf(const ContactChunk& c, std::size_t e) {
   return {c.fx[e], c.fy[e], c.fz[e]};
 }
 /// A term's pure torque on i of the chunk's entry e (kPureTorque; −it on the other body).
-inline Vec3 pureTorqueOf(const ContactChunk& c, std::size_t e) {
+[[maybe_unused]] inline Vec3 pureTorqueOf(const ContactChunk& c, std::size_t e) {
   return {c.qx[e], c.qy[e], c.qz[e]};
 }
 inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
