@@ -32,11 +32,12 @@ std::string csvNumber(double x) {
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
-                                   std::vector<std::string> walls)
+                                   std::vector<std::string> walls, const Material& material)
     : file_(path), walls_(std::move(walls)) {
   std::ostringstream header;
   header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J";
-  for (const EnergyAccountSpec& column : energyColumns()) header << ',' << column.account.column;
+  for (const EnergyAccountSpec& column : energyColumns(material))
+    header << ',' << column.account.column;
   header << ",gravity_work_J,wall_work_J,energy_total_J,contacts_particle_overlapping,"
             "contacts_wall_overlapping";
   for (const std::string& wall : walls_) {

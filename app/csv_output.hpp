@@ -23,8 +23,10 @@ std::string csvNumber(double x);
 class TimeSeriesWriter {
  public:
   /// `walls` fixes the reaction columns; a wall that does not exist yet (the top wall before
-  /// it is placed) gets empty cells.
-  TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls);
+  /// it is placed) gets empty cells. The energy columns are those of the terms `material` uses
+  /// (energyColumns(material)), as Simulation::energy() gives them.
+  TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
+                   const Material& material);
   /// Continues a file written up to `bytes` (a resumed run): rows after that are dropped, so the
   /// file ends as if the run had never stopped. IoError if the file is shorter.
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,

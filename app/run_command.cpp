@@ -219,7 +219,7 @@ int runScene(const RunOptions& options) {
   if (start.resumed) {
     series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes);
   } else {
-    series.emplace(seriesPath, reactionWallNames(scene));
+    series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material);
   }
   ProgressReporter reporter(!options.quiet);
   // The run checks itself at each sample (energy balance, particles outside the box): a

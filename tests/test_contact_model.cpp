@@ -260,7 +260,7 @@ TEST(ContactModel, TheEnergyLedgerAndItsColumnsAreTheDeclaredAccounts) {
       std::filesystem::temp_directory_path() /
       ("granular_contact_model_series_" + std::to_string(::getpid()) + ".csv");
   {
-    app::TimeSeriesWriter series(file, {});
+    app::TimeSeriesWriter series(file, {}, sim.config().material);
     series.write("settle", sim);
   }
   std::ifstream in(file);

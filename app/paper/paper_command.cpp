@@ -262,7 +262,8 @@ CaseOutcome runCase(const PaperReference& ref, const std::string& folder, double
   outcome.constantStiffness = constantStiffness;
   outcome.seed = gridSeed(scene);
   std::unique_ptr<TimeSeriesWriter> settleSeries;  // opened only if stage 1 really runs
-  TimeSeriesWriter compactSeries(dir / "compaction_timeseries.csv", reactionWallNames(scene));
+  TimeSeriesWriter compactSeries(dir / "compaction_timeseries.csv", reactionWallNames(scene),
+                                 scene.simulation.material);
   CompactionParaview paraview(dir, scene);
   const StageSpec& settleStage = scene.stages.at(0);
 
@@ -297,8 +298,8 @@ CaseOutcome runCase(const PaperReference& ref, const std::string& folder, double
   run.onSample = [&](const Simulation& sim, const std::string& stage) {
     if (stage == settleStage.name) {
       if (!settleSeries) {
-        settleSeries = std::make_unique<TimeSeriesWriter>(dir / "settle_timeseries.csv",
-                                                          reactionWallNames(scene));
+        settleSeries = std::make_unique<TimeSeriesWriter>(
+            dir / "settle_timeseries.csv", reactionWallNames(scene), scene.simulation.material);
       }
       settleSeries->write(stage, sim);
     } else {

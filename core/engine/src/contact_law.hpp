@@ -18,6 +18,7 @@
 ///
 /// Particle pairs and particle-wall contacts share `contactLaw`; only the geometry differs (a
 /// wall is a body of infinite radius and mass moving with its prescribed velocity).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -26,6 +27,34 @@
 #include "simulation_state.hpp"
 
 namespace granular {
+
+/// A term's own constants (`struct Constants` and `static Constants constants(const
+/// Parameters&)` in its file), or nothing for a term that reads only the shared ones below.
+template <class T>
+struct TermConstantsOf {
+  struct type {};
+  static type of(const Material&) { return {}; }
+};
+template <class T>
+requires requires {
+  typename T::Constants;
+}
+struct TermConstantsOf<T> {
+  using type = typename T::Constants;
+  static type of(const Material& m) { return T::constants(m); }
+};
+template <class T>
+struct TermConstantsSlot {
+  typename TermConstantsOf<T>::type value;
+};
+template <class List>
+struct ModelConstants;
+/// Every term's own constants, computed once per pass from the material.
+template <class... Terms>
+struct ModelConstants<TermList<Terms...>> : TermConstantsSlot<Terms>... {
+  explicit ModelConstants(const Material& m)
+      : TermConstantsSlot<Terms>{TermConstantsOf<Terms>::of(m)}... {}
+};
 
 /// Constants of the law for a scene, computed once.
 struct ContactConstants {
@@ -37,6 +66,13 @@ struct ContactConstants {
   double friction;               ///< μ [-]
   double dt;                     ///< [s]
   double normalForceFloor;       ///< 0 (no pull: F_n = max(0, ·)) or −∞ (Material::noPull) [N]
+  ModelConstants<ContactModel> terms;  ///< each term's own constants
+
+  /// Term T's own constants (its `Constants`).
+  template <class T>
+  const typename TermConstantsOf<T>::type& of() const {
+    return static_cast<const TermConstantsSlot<T>&>(terms).value;
+  }
 };
 
 /// Contacts per chunk: 64 fill the arrays below with ≈ 27 KB, about what an L1 data cache holds
@@ -76,7 +112,9 @@ struct ContactChunk {
   // energy account (kEnergySlotTable: an energy, a power or an increment, by its kind).
   alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
   alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
-  alignas(64) double qx[kChunk], qy[kChunk], qz[kChunk];  ///< pure torque on i [N m] (kPureTorque)
+  /// A term's pure torque on i [N m] (−it on the other body), written by the term's loop where
+  /// the build includes a term that declares `pureTorque` (kPureTorque).
+  alignas(64) double qx[kChunk], qy[kChunk], qz[kChunk];
   alignas(64) double energyRows[kEnergySlots][kChunk];
 
   /// Term T's history slot `slot` (its declared order), one entry per contact.
@@ -190,6 +228,25 @@ template <bool kFriction, unsigned kOptional>
 inline constexpr bool kPureTorque = pureTorqueIn(ContactModel{}, std::bool_constant<kFriction>{},
                                                  std::integral_constant<unsigned, kOptional>{});
 
+template <bool kFriction, unsigned kOptional, class... Terms>
+constexpr std::array<bool, kEnergySlots> includedEnergySlotsIn(TermList<Terms...>) {
+  std::array<bool, kEnergySlots> out{};
+  std::size_t at = 0;
+  (
+      [&] {
+        for (std::size_t k = 0; k < Terms::energy.size(); ++k) {
+          out[at++] = kIncludes<Terms, kFriction, kOptional>;
+        }
+      }(),
+      ...);
+  return out;
+}
+/// Per energy slot: whether a build includes its term (the slots of the others hold nothing
+/// the pass wrote, and are not summed).
+template <bool kFriction, unsigned kOptional>
+inline constexpr auto kIncludedEnergySlots =
+    includedEnergySlotsIn<kFriction, kOptional>(ContactModel{});
+
 /// Term T's first and second loop, where it has them and the build includes it.
 template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void firstOf(const ContactConstants& k, ContactChunk& c,
@@ -236,11 +293,6 @@ template <unsigned kOptional, bool kAdvance, class... Terms>
   lane.ty = c.ty[e];
   lane.tz = c.tz[e];
   (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
-  if constexpr (kPureTorque<true, kOptional>) {
-    c.qx[e] = lane.qx;
-    c.qy[e] = lane.qy;
-    c.qz[e] = lane.qz;
-  }
   const double fx = c.fx[e] + lane.tx, fy = c.fy[e] + lane.ty, fz = c.fz[e] + lane.tz;
   c.fx[e] = fx;
   c.fy[e] = fy;

@@ -2,6 +2,7 @@
 /// declarations.
 #include "granular/contact_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <tuple>
@@ -82,6 +83,7 @@ template <class T>
 TermSpec termSpecOf() {
   TermSpec t{T::name, T::history, kHistoryOffset<T>, nullptr, T::energy, T::stableStep};
   if constexpr (requires { T::historyProblem(nullptr); }) t.historyProblem = &T::historyProblem;
+  if constexpr (requires(const Material& m) { T::active(m); }) t.active = &T::active;
   return t;
 }
 
@@ -184,6 +186,17 @@ std::span<const EnergyAccountSpec> energyColumns() {
     return out;
   }();
   return columns;
+}
+
+std::vector<EnergyAccountSpec> energyColumns(const Material& material) {
+  std::vector<EnergyAccountSpec> out;
+  for (const EnergyAccountSpec& a : energyColumns()) {
+    const auto terms = contactTerms();
+    const auto term = std::find_if(terms.begin(), terms.end(),
+                                   [&](const TermSpec& t) { return t.name == a.term; });
+    if (term->active == nullptr || term->active(material)) out.push_back(a);
+  }
+  return out;
 }
 
 std::span<const ParameterSpec> materialParameters() {

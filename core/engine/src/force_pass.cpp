@@ -34,7 +34,8 @@ ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
           m.tangentialDamping,
           m.friction,
           dt,
-          m.noPull ? 0.0 : -std::numeric_limits<double>::infinity()};
+          m.noPull ? 0.0 : -std::numeric_limits<double>::infinity(),
+          ModelConstants<ContactModel>(m)};
 }
 
 // ---- 0. The chunk kernels, built twice ----------------------------------------------------
@@ -219,8 +220,10 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
 
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
-/// points from the particle towards the wall.
-template <bool kFriction>
+/// points from the particle towards the wall. With kSpins (a build with a term acting on the
+/// bodies' relative spin, kPureTorque) the raw columns get the particle's spin, radius and mass
+/// as i's, and the wall's as j's: no spin, infinite radius and mass.
+template <bool kFriction, bool kSpins = false>
 void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
                       ContactChunk& c, std::size_t m) {
   for (std::size_t e = 0; e < m; ++e) {
@@ -248,6 +251,17 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
       c.cz[e] = contactVelocity.z();
       loadSpring(list.wallHistory[w][k], c, e);
     }
+    if constexpr (kSpins) {
+      constexpr double kInfinite = std::numeric_limits<double>::infinity();
+      const Vec3& wi = p.angularVelocity[i];
+      c.wix[e] = wi.x();
+      c.wiy[e] = wi.y();
+      c.wiz[e] = wi.z();
+      c.wjx[e] = c.wjy[e] = c.wjz[e] = 0.0;
+      c.ri[e] = p.radius[i];
+      c.mi[e] = p.mass[i];
+      c.rj[e] = c.mj[e] = kInfinite;
+    }
   }
 }
 
@@ -264,12 +278,12 @@ inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
 
 /// Adds the powers of the chunk's m contacts to `powers` in contact order (so the sums are the
 /// same for any thread count and any vector width).
-template <bool kFriction>
+template <bool kFriction, unsigned kOptional>
 void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers) {
   for (std::size_t e = 0; e < m; ++e) {
     for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
       if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;  // a residual, not summed
-      if (!kFriction && kEnergySlotTable[slot].needsFriction) continue;
+      if (!kIncludedEnergySlots<kFriction, kOptional>[slot]) continue;
       powers.energy[slot] += c.energyRows[slot][e];
     }
   }
@@ -514,7 +528,7 @@ class PlannedPass {
       }
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
-      addChunkPowers<kFriction>(chunk, m, powers);
+      addChunkPowers<kFriction, kOptional>(chunk, m, powers);
       powers.particleContacts += m;
       // Pairs come by ascending first particle: i's force and torque stay in registers over
       // its run of contacts (stored once when i changes), which breaks the chain of stores and
@@ -588,9 +602,9 @@ class PlannedPass {
   }
 
   void wallChunk(ContactChunk& chunk, std::size_t m, ContactPowers& powers, Vec3* reaction) {
-    loadWallContacts<kFriction>(p_, list_, s_.walls, chunk, m);
+    loadWallContacts<kFriction, kPureTorque<kFriction, kOptional>>(p_, list_, s_.walls, chunk, m);
     kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
-    addChunkPowers<kFriction>(chunk, m, powers);
+    addChunkPowers<kFriction, kOptional>(chunk, m, powers);
     powers.wallContacts += m;
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t w = chunk.wall[e], i = list_.wallParticles[w][chunk.slot[e]];
@@ -730,7 +744,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
       const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
-      loadWallContacts<kFriction>(p, list, s.walls, chunk, m);
+      loadWallContacts<kFriction, kPureTorque<kFriction, kOptional>>(p, list, s.walls, chunk, m);
       kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];

@@ -583,7 +583,7 @@ EnergyBalance Simulation::energy() const {
   const EnergyAccumulators& e = s.energy;
   // Each column's value; a Slip account is what its group's forces took from the particles and
   // neither its springs nor its dashpots hold: −W − ΔE_s − D + S.
-  for (const EnergyAccountSpec& column : energyColumns()) {
+  for (const EnergyAccountSpec& column : energyColumns(s.config.material)) {
     const std::size_t slot = column.slot;
     double value = 0.0;
     switch (column.account.kind) {

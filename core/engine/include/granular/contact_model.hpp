@@ -67,17 +67,16 @@ struct EnergyLayout<TermList<Terms...>> {
     ((found = found || std::is_same_v<T, Terms>, at += found ? 0 : Terms::energy.size()), ...);
     return at;
   }
-  /// Per slot: its kind, and whether its term acts only with friction.
+  /// Per slot: its kind.
   struct Slot {
     EnergyKind kind;
-    bool needsFriction;
   };
   static constexpr std::array<Slot, slots> table() {
     std::array<Slot, slots> out{};
     std::size_t at = 0;
     (
         [&] {
-          for (const EnergyTerm& e : Terms::energy) out[at++] = {e.kind, Terms::needsFriction};
+          for (const EnergyTerm& e : Terms::energy) out[at++] = {e.kind};
         }(),
         ...);
     return out;
@@ -87,7 +86,7 @@ inline constexpr std::size_t kEnergySlots = EnergyLayout<ContactModel>::slots;
 /// Where term T's energy accounts begin (the force pass's per-contact values and sums).
 template <class T>
 inline constexpr std::size_t kEnergyOffset = EnergyLayout<ContactModel>::template offset<T>();
-/// Each slot's kind and whether it needs friction, by slot.
+/// Each slot's kind, by slot.
 inline constexpr auto kEnergySlotTable = EnergyLayout<ContactModel>::table();
 
 /// The history one contact carries for its life: every term's slots, zero for a new contact.
@@ -136,6 +135,8 @@ struct TermSpec {
   const char* (*historyProblem)(const double* slot) = nullptr;
   std::span<const EnergyTerm> energy;
   std::string_view stableStep;
+  /// An optional term's `active` (whether a material uses it); nullptr: the term always acts.
+  bool (*active)(const Material&) = nullptr;
 };
 
 /// An energy account with its slot (the force pass's index for it) and term.
@@ -151,6 +152,9 @@ const EnergyAccountSpec* findEnergyAccount(std::string_view column);
 /// The ledger's columns, as the time series prints them: the Stored accounts, the Dissipated,
 /// the Slip, then the Supplied (Work accounts are not columns); each kind in term order.
 std::span<const EnergyAccountSpec> energyColumns();
+/// The columns of the terms this material uses: an optional term it leaves off (rolling
+/// resistance at μ_r = 0) has no columns, so a scene's time series names only what acts in it.
+std::vector<EnergyAccountSpec> energyColumns(const Material& material);
 
 /// Every declared material parameter, term by term in ContactModel's order.
 std::span<const ParameterSpec> materialParameters();

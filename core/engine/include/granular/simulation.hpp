@@ -64,8 +64,8 @@ struct EnergyAccount {
 struct EnergyBalance {
   double kineticTranslational = 0;  ///< Σ ½ m v² [J]
   double kineticRotational = 0;     ///< Σ ½ I ω² [J]
-  /// The contact terms' accounts in column order (energyColumns(): stored, dissipated, slip,
-  /// supplied) [J].
+  /// The accounts of the contact terms the scene uses, in column order
+  /// (energyColumns(material): stored, dissipated, slip, supplied) [J].
   std::vector<EnergyAccount> contact;
   double gravityWork = 0;  ///< work of gravity on the particles, Σ m g·(x - x₀) [J]
   double wallWork = 0;     ///< work of the moving walls on the particles [J]

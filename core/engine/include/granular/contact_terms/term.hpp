@@ -40,7 +40,6 @@ struct ContactLane {
   double vtx = 0, vty = 0, vtz = 0;  ///< tangential velocity of the contact points [m/s]
   double tx = 0, ty = 0, tz = 0;     ///< tangential force: trial (first), capped (second) [N]
   bool sliding = false;              ///< the Coulomb cap holds (second loop)
-  double qx = 0, qy = 0, qz = 0;     ///< pure torque on i (−on the other) [N m] (second loop)
 };
 
 /// How a parameter is written in a scene file: a number, one of a list of names, true/false.
