@@ -83,7 +83,9 @@ template <class T>
 TermSpec termSpecOf() {
   TermSpec t{T::name, T::history, kHistoryOffset<T>, nullptr, T::energy, T::stableStep};
   if constexpr (requires { T::historyProblem(nullptr); }) t.historyProblem = &T::historyProblem;
-  if constexpr (requires(const Material& m) { T::active(m); }) t.active = &T::active;
+  if constexpr (requires(const Material& m) { T::active(m); }) {
+    t.active = [](const Material& m) { return T::active(m); };
+  }
   return t;
 }
 
