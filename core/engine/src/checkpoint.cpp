@@ -88,13 +88,35 @@ void fields(Io& io, ContactHistory& h) {
   io.history(h);
 }
 
-/// The terms with history slots, in the order a ContactHistory holds them.
-std::vector<HistoryTerm> historyLayout() {
+/// The terms with history slots that act in `material` (an optional term it leaves off holds
+/// nothing and is not written), in the order a ContactHistory holds them.
+std::vector<HistoryTerm> historyLayout(const Material& material) {
   std::vector<HistoryTerm> layout;
   for (const TermSpec& t : contactTerms()) {
-    if (!t.history.empty()) layout.push_back({std::string(t.name), t.history.size()});
+    if (t.history.empty() || (t.active && !t.active(material))) continue;
+    layout.push_back({std::string(t.name), t.history.size()});
   }
   return layout;
+}
+
+/// Each term of a history layout as (offset in a ContactHistory, slots); a term this build's
+/// contact model does not declare with as many slots is refused (`corrupted`).
+template <class Refuse>
+std::vector<std::pair<std::size_t, std::size_t>> historyRuns(const std::vector<HistoryTerm>& layout,
+                                                             Refuse&& corrupted) {
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  for (const HistoryTerm& t : layout) {
+    const auto terms = contactTerms();
+    const auto it = std::find_if(terms.begin(), terms.end(),
+                                 [&](const TermSpec& spec) { return spec.name == t.term; });
+    if (it == terms.end() || it->history.size() != t.slots) {
+      corrupted("its contacts carry the history of a term '" + printable(t.term) + "' with " +
+                std::to_string(t.slots) +
+                " slots, which this build's contact model does not declare");
+    }
+    runs.push_back({it->historyOffset, it->history.size()});
+  }
+  return runs;
 }
 
 // ---- Byte streams: one call operator per direction, the same field order ------------------
@@ -120,9 +142,17 @@ class Writer {
     }
   }
   const std::vector<char>& bytes() const { return bytes_; }
-  /// A contact's history: every slot, in this build's layout (historyLayout).
+  /// The history layout written: the slots of these terms, per contact.
+  void setHistoryLayout(const std::vector<HistoryTerm>& layout) {
+    historyRuns_ = historyRuns(layout, [](const std::string& what) {
+      throw std::logic_error("checkpoint writer: " + what);
+    });
+  }
+  /// A contact's history: the slots of the layout's terms.
   void history(ContactHistory& h) {
-    for (double& x : h.slot) raw(x);
+    for (const auto& [offset, count] : historyRuns_) {
+      for (std::size_t k = 0; k < count; ++k) raw(h.slot[offset + k]);
+    }
   }
   static constexpr std::uint32_t version() { return kCheckpointVersion; }
 
@@ -134,6 +164,7 @@ class Writer {
     bytes_.insert(bytes_.end(), p, p + sizeof(T));
   }
   std::vector<char> bytes_;
+  std::vector<std::pair<std::size_t, std::size_t>> historyRuns_;  ///< (offset, slots) per term
 };
 
 class Reader {
@@ -144,18 +175,7 @@ class Reader {
   /// The file's history layout, mapped onto this build's: each of the file's terms must be one
   /// this build declares with as many slots; a term the file lacks keeps zero slots.
   void setHistoryLayout(const std::vector<HistoryTerm>& layout) {
-    historyRuns_.clear();
-    for (const HistoryTerm& t : layout) {
-      const auto terms = contactTerms();
-      const auto it = std::find_if(terms.begin(), terms.end(),
-                                   [&](const TermSpec& spec) { return spec.name == t.term; });
-      if (it == terms.end() || it->history.size() != t.slots) {
-        corrupted("its contacts carry the history of a term '" + printable(t.term) + "' with " +
-                  std::to_string(t.slots) +
-                  " slots, which this build's contact model does not declare");
-      }
-      historyRuns_.push_back({it->historyOffset, it->history.size()});
-    }
+    historyRuns_ = historyRuns(layout, [this](const std::string& what) { corrupted(what); });
   }
   /// The slot of the energy account with this column; a column this build does not declare is
   /// refused by name.
@@ -255,12 +275,12 @@ void fields(Io& io, SimulationState& s) {
   // The file holds a spring per candidate pair (zero for those holding none): the layout in
   // memory (pair_springs.hpp) depends on the particle blocks, derived data built on loading.
   // Likewise the first particle of each pair, which memory holds as rows.
-  std::vector<HistoryTerm> layout = historyLayout();
+  std::vector<HistoryTerm> layout = historyLayout(s.config.material);
   if constexpr (std::is_same_v<Io, Reader>) {
     if (io.version() < 5) layout = {{std::string(TangentialSpring::name), 4}};
   }
   if (io.version() >= 5) io(layout);
-  if constexpr (std::is_same_v<Io, Reader>) io.setHistoryLayout(layout);
+  io.setHistoryLayout(layout);
   std::vector<ContactHistory> history;
   std::vector<std::uint32_t> first;
   if constexpr (std::is_same_v<Io, Writer>) {
