@@ -247,6 +247,24 @@ template <bool kFriction, unsigned kOptional>
 inline constexpr auto kIncludedEnergySlots =
     includedEnergySlotsIn<kFriction, kOptional>(ContactModel{});
 
+template <bool kFriction, unsigned kOptional, class... Terms>
+constexpr std::array<bool, kHistorySlots> includedHistorySlotsIn(TermList<Terms...>) {
+  std::array<bool, kHistorySlots> out{};
+  std::size_t at = 0;
+  (
+      [&] {
+        for (std::size_t k = 0; k < Terms::history.size(); ++k) {
+          out[at++] = kIncludes<Terms, kFriction, kOptional>;
+        }
+      }(),
+      ...);
+  return out;
+}
+/// Per history slot: whether a build includes its term (the force pass moves only those).
+template <bool kFriction, unsigned kOptional>
+inline constexpr auto kIncludedHistorySlots =
+    includedHistorySlotsIn<kFriction, kOptional>(ContactModel{});
+
 /// Term T's first and second loop, where it has them and the build includes it.
 template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>
 [[gnu::always_inline]] inline void firstOf(const ContactConstants& k, ContactChunk& c,

@@ -187,14 +187,19 @@ inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourL
   return m;
 }
 
-/// Copies a contact's stored history (every term's slots) into entry e of the chunk.
+/// Copies a contact's stored history into entry e of the chunk: the slots of the terms the
+/// build includes (the others' rows stay untouched, so a scene without an optional term moves no
+/// more memory per contact than a model without it).
+template <bool kFriction, unsigned kOptional>
 inline void loadSpring(const ContactHistory& history, ContactChunk& c, std::size_t e) {
-  for (std::size_t k = 0; k < kHistorySlots; ++k) c.historyRows[k][e] = history.slot[k];
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) c.historyRows[k][e] = history.slot[k];
+  }
 }
 
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
 /// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
-template <bool kFriction, class SpringOf>
+template <bool kFriction, unsigned kOptional, class SpringOf>
 void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t i = c.first[e], j = c.second[e];
@@ -213,17 +218,17 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
       c.wjx[e] = wj.x();
       c.wjy[e] = wj.y();
       c.wjz[e] = wj.z();
-      loadSpring(springOf(e), c, e);
+      loadSpring<kFriction, kOptional>(springOf(e), c, e);
     }
   }
 }
 
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
-/// points from the particle towards the wall. With kSpins (a build with a term acting on the
-/// bodies' relative spin, kPureTorque) the raw columns get the particle's spin, radius and mass
+/// points from the particle towards the wall. In a build with a term acting on the bodies'
+/// relative spin (kPureTorque) the raw columns get the particle's spin, radius and mass
 /// as i's, and the wall's as j's: no spin, infinite radius and mass.
-template <bool kFriction, bool kSpins = false>
+template <bool kFriction, unsigned kOptional>
 void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
                       ContactChunk& c, std::size_t m) {
   for (std::size_t e = 0; e < m; ++e) {
@@ -249,9 +254,9 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
       c.cx[e] = contactVelocity.x();
       c.cy[e] = contactVelocity.y();
       c.cz[e] = contactVelocity.z();
-      loadSpring(list.wallHistory[w][k], c, e);
+      loadSpring<kFriction, kOptional>(list.wallHistory[w][k], c, e);
     }
-    if constexpr (kSpins) {
+    if constexpr (kPureTorque<kFriction, kOptional>) {
       constexpr double kInfinite = std::numeric_limits<double>::infinity();
       const Vec3& wi = p.angularVelocity[i];
       c.wix[e] = wi.x();
@@ -290,10 +295,13 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
-/// The advanced history of the chunk's entry e.
+/// The advanced history of the chunk's entry e (zero in the slots of terms the build leaves out).
+template <bool kFriction, unsigned kOptional>
 inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
   ContactHistory history;
-  for (std::size_t k = 0; k < kHistorySlots; ++k) history.slot[k] = c.historyRows[k][e];
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) history.slot[k] = c.historyRows[k][e];
+  }
   return history;
 }
 
@@ -464,7 +472,7 @@ class PlannedPass {
         at[m] = q;
         m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], chunk, m);
       }
-      loadPairs<kFriction>(p_, chunk, m, [&](std::size_t e) -> const ContactHistory& {
+      loadPairs<kFriction, kOptional>(p_, chunk, m, [&](std::size_t e) -> const ContactHistory& {
         return scratch_.crossingSpring[at[e]];
       });
       kern_.geometry(chunk, m, kFriction);
@@ -519,12 +527,12 @@ class PlannedPass {
         rows.reached(i);
         *heldWord++ = heldNow;
         springs.read += read;
-        loadPairs<kFriction>(p_, chunk, m,
-                             [&](std::size_t e) -> const ContactHistory& { return *spring[e]; });
+        loadPairs<kFriction, kOptional>(
+            p_, chunk, m, [&](std::size_t e) -> const ContactHistory& { return *spring[e]; });
       } else {
         m = pickTouchingPairs(p_, list_, begin, count, rows, chunk);
-        loadPairs<kFriction>(p_, chunk, m,
-                             [](std::size_t) -> const ContactHistory& { return kNoSpring; });
+        loadPairs<kFriction, kOptional>(
+            p_, chunk, m, [](std::size_t) -> const ContactHistory& { return kNoSpring; });
       }
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
@@ -572,7 +580,7 @@ class PlannedPass {
       }
       if constexpr (kFriction) {
         ContactHistory* out = springs.write(m, *aside_);
-        for (std::size_t e = 0; e < m; ++e) out[e] = springOf(chunk, e);
+        for (std::size_t e = 0; e < m; ++e) out[e] = springOf<kFriction, kOptional>(chunk, e);
       }
     }
     if constexpr (kFriction) springs.finish();
@@ -602,7 +610,7 @@ class PlannedPass {
   }
 
   void wallChunk(ContactChunk& chunk, std::size_t m, ContactPowers& powers, Vec3* reaction) {
-    loadWallContacts<kFriction, kPureTorque<kFriction, kOptional>>(p_, list_, s_.walls, chunk, m);
+    loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, chunk, m);
     kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
     addChunkPowers<kFriction, kOptional>(chunk, m, powers);
     powers.wallContacts += m;
@@ -622,7 +630,7 @@ class PlannedPass {
                   list_.wallHistory[span.wall].begin() + span.end, ContactHistory{});
       }
       for (std::size_t e = 0; e < m; ++e) {
-        list_.wallHistory[chunk.wall[e]][chunk.slot[e]] = springOf(chunk, e);
+        list_.wallHistory[chunk.wall[e]][chunk.slot[e]] = springOf<kFriction, kOptional>(chunk, e);
       }
     }
     spans_.clear();
@@ -725,7 +733,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
     const std::size_t count = std::min(kChunk, pairs - begin);
     const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
-    loadPairs<kFriction>(p, chunk, m, [&](std::size_t e) -> const ContactHistory& {
+    loadPairs<kFriction, kOptional>(p, chunk, m, [&](std::size_t e) -> const ContactHistory& {
       return springs->at(chunk.slot[e]);
     });
     kern.geometry(chunk, m, kFriction);
@@ -744,7 +752,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
       const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
-      loadWallContacts<kFriction, kPureTorque<kFriction, kOptional>>(p, list, s.walls, chunk, m);
+      loadWallContacts<kFriction, kOptional>(p, list, s.walls, chunk, m);
       kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
