@@ -61,6 +61,13 @@ double otherValue(const ParameterSpec& p) {
   return std::nextafter(p.defaultValue, p.range.hi);
 }
 
+/// Keys a scene sets beside parameter p so that the terms' rules hold with p's other value: the
+/// constant tangential law needs its k_t and rolling resistance needs friction.
+std::string ruleContext(const ParameterSpec& p) {
+  if (p.key == "friction" || p.key == "tangential_stiffness") return "";
+  return "friction = 0.5\ntangential_stiffness = 1000\n";
+}
+
 TEST(ContactModel, EveryTermDeclaresItsParametersOnceWithUnitRangeAndDoc) {
   std::set<std::string> keys;
   for (const ParameterSpec& p : materialParameters()) {
@@ -88,8 +95,9 @@ TEST(ContactModel, TheLoaderReadsEveryDeclaredParameterAndADummyTermsToo) {
     std::snprintf(number, sizeof number, "%.17g", value);
     const std::string text =
         p.kind == ParameterKind::Number ? std::string(number) : p.valueText(value);
-    const Material m = readMaterialFrom("[material]\n" + std::string(p.key) + " = " + text + "\n",
-                                        materialParameters());
+    const Material m =
+        readMaterialFrom("[material]\n" + ruleContext(p) + std::string(p.key) + " = " + text + "\n",
+                         materialParameters());
     EXPECT_EQ(p.get(m), value);
   }
   // The dummy: read, range-checked with its declared range and unit, unknown to the model's own
@@ -217,13 +225,17 @@ TEST(ContactModel, TheFingerprintChangesWithEveryDeclaredParameter) {
     return std::uint64_t{0};
   };
   const std::uint64_t plain = materialPart("");
+  const std::uint64_t context =
+      materialPart("[material]\nfriction = 0.5\ntangential_stiffness = 1000\n");
   for (const ParameterSpec& p : materialParameters()) {
     SCOPED_TRACE(std::string(p.key));
     char number[64];
     std::snprintf(number, sizeof number, "%.17g", otherValue(p));
     const std::string text =
         p.kind == ParameterKind::Number ? std::string(number) : p.valueText(otherValue(p));
-    EXPECT_NE(materialPart("[material]\n" + std::string(p.key) + " = " + text + "\n"), plain);
+    const std::string keys = ruleContext(p);
+    EXPECT_NE(materialPart("[material]\n" + keys + std::string(p.key) + " = " + text + "\n"),
+              keys.empty() ? plain : context);
   }
   std::filesystem::remove_all(dir);
 }
@@ -235,13 +247,21 @@ TEST(ContactModel, TheEnergyLedgerAndItsColumnsAreTheDeclaredAccounts) {
   Simulation sim = testing::fallingGrid(2, 2, 2, cfg, 0.5);
   sim.run(4000);  // 0.4 s: fallen, bounced and slid on the floor
   const EnergyBalance e = sim.energy();
-  // One account per declared account that is a column, in energyColumns()'s order.
-  const auto columns = energyColumns();
-  ASSERT_EQ(e.contact.size(), columns.size());
+  // One account per declared account that is a column (energyColumns()), less those of the
+  // optional terms the scene leaves off (rolling resistance at μ_r = 0), in that order.
   std::size_t declared = 0;
   for (const EnergyAccountSpec& a : energyAccounts())
     declared += a.account.kind != EnergyKind::Work;
-  EXPECT_EQ(columns.size(), declared);
+  EXPECT_EQ(energyColumns().size(), declared);
+  const auto columns = energyColumns(sim.config().material);
+  std::size_t optional = 0;
+  for (const EnergyAccountSpec& a : energyColumns()) optional += a.term == RollingResistance::name;
+  EXPECT_GT(optional, 0u);
+  EXPECT_EQ(columns.size(), declared - optional);
+  ASSERT_EQ(e.contact.size(), columns.size());
+  Material rolling = sim.config().material;
+  rolling.rollingFriction = 0.1;
+  EXPECT_EQ(energyColumns(rolling).size(), declared);
   for (std::size_t k = 0; k < columns.size(); ++k) {
     EXPECT_EQ(e.contact[k].column, columns[k].account.column);
     EXPECT_EQ(e.contact[k].kind, columns[k].account.kind);

@@ -15,6 +15,7 @@
 #include "granular/contact_terms/body.hpp"
 #include "granular/contact_terms/normal_damping.hpp"
 #include "granular/contact_terms/normal_elastic.hpp"
+#include "granular/contact_terms/rolling_resistance.hpp"
 #include "granular/contact_terms/tangential_damping.hpp"
 #include "granular/contact_terms/tangential_spring.hpp"
 
@@ -24,8 +25,8 @@ template <class... Terms>
 struct TermList {};
 
 /// The terms, in the order they act on a contact (the bodies' own material first).
-using ContactModel =
-    TermList<Body, NormalElastic, NormalDamping, TangentialSpring, TangentialDamping>;
+using ContactModel = TermList<Body, NormalElastic, NormalDamping, TangentialSpring,
+                              TangentialDamping, RollingResistance>;
 
 /// A struct holding every term's Parameters (Material derives from it).
 template <class List>
