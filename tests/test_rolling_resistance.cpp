@@ -255,3 +255,37 @@ TEST(RollingResistance, RollingFrictionWithoutFrictionIsRefusedByName) {
   m.rollingStiffness = 2.25;
   EXPECT_NO_THROW(validateMaterial(m));
 }
+
+TEST(RollingResistance, SwitchedOnAndOffMidRunTheSpringsFollow) {
+  // A frictional bed without rolling resistance stores 4 doubles a contact; switched on, the
+  // records gain the rolling slots (from zero), a checkpoint carries them, and switched off
+  // they are dropped again while the tangential springs go on.
+  SimulationConfig cfg;
+  cfg.material = rollingMaterial(0.0);
+  cfg.timeStep = stiffestContact(cfg.material, 0.03, 3.0).duration / 50;
+  Simulation sim = fallingGrid(3, 3, 4, cfg, 0.3);
+  sim.run(3000);
+  EXPECT_THROW(sim.energy().of("elastic_rolling_J"), std::out_of_range);
+  Material on = sim.config().material;
+  on.rollingFriction = kMuR;
+  sim.setMaterial(on);
+  sim.run(1000);
+  EXPECT_GT(sim.energy().of("elastic_rolling_J"), 0.0);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() /
+      ("granular_rolling_switch_" + std::to_string(::getpid()) + ".ckpt");
+  writeCheckpoint(sim, file, 7);
+  Simulation resumed = readCheckpoint(file, 7);
+  std::filesystem::remove(file);
+  sim.run(500);
+  resumed.run(500);
+  EXPECT_EQ(sim.stateHash(), resumed.stateHash());
+  const double tangential = sim.energy().of("elastic_tangential_J");
+  Material off = sim.config().material;
+  off.rollingFriction = 0.0;
+  sim.setMaterial(off);
+  EXPECT_NEAR(sim.energy().of("elastic_tangential_J"), tangential, 1e-6 * tangential);
+  sim.run(500);
+  EXPECT_THROW(sim.energy().of("elastic_rolling_J"), std::out_of_range);
+  EXPECT_GT(sim.energy().of("elastic_tangential_J"), 0.0);
+}

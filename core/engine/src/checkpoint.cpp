@@ -292,7 +292,9 @@ void fields(Io& io, SimulationState& s) {
     if (!rowsFromFirst(n, first, p.size())) io.corrupted("the pair list is not sorted");
     std::vector<std::uint32_t>().swap(first);
     buildPairBlocks(n, p.size());
-    layOutPairSprings(n, history);
+    // Records of every term's slots: the material (read later) is not known yet; the first
+    // force pass keeps those of the terms it uses.
+    layOutPairSprings(n, history, (1u << kOptionalTerms) - 1);
   }
   // The reference positions as doubles, as files before single precision held them.
   std::vector<Vec3> reference;

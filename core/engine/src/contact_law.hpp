@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 #include "granular/contact_model.hpp"
 #include "simulation_state.hpp"
@@ -264,6 +265,24 @@ constexpr std::array<bool, kHistorySlots> includedHistorySlotsIn(TermList<Terms.
 template <bool kFriction, unsigned kOptional>
 inline constexpr auto kIncludedHistorySlots =
     includedHistorySlotsIn<kFriction, kOptional>(ContactModel{});
+
+/// Doubles in a stored spring record of a frictional build with optional terms kOptional (the
+/// slots of the terms it includes; PairSprings).
+template <unsigned kOptional>
+inline constexpr std::size_t kRecordSlots = [] {
+  std::size_t n = 0;
+  for (bool included : kIncludedHistorySlots<true, kOptional>) n += included ? 1 : 0;
+  return n;
+}();
+
+template <unsigned... kMasks>
+constexpr auto historySlotsByMaskIn(std::integer_sequence<unsigned, kMasks...>) {
+  return std::array<std::array<bool, kHistorySlots>, sizeof...(kMasks)>{
+      kIncludedHistorySlots<true, kMasks>...};
+}
+/// Per mask of optional terms: the history slots a frictional build includes.
+inline constexpr auto kHistorySlotsByMask =
+    historySlotsByMaskIn(std::make_integer_sequence<unsigned, (1u << kOptionalTerms)>{});
 
 /// Term T's first and second loop, where it has them and the build includes it.
 template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>

@@ -196,6 +196,14 @@ inline void loadSpring(const ContactHistory& history, ContactChunk& c, std::size
     if (kIncludedHistorySlots<kFriction, kOptional>[k]) c.historyRows[k][e] = history.slot[k];
   }
 }
+/// The same from a stored record (PairSprings: the included slots, in order).
+template <bool kFriction, unsigned kOptional>
+inline void loadSpring(const double* record, ContactChunk& c, std::size_t e) {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) c.historyRows[k][e] = record[at++];
+  }
+}
 
 /// Completes the m picked pairs in the chunk with masses, velocities and springs (their
 /// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
@@ -295,6 +303,15 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
+/// The advanced history of the chunk's entry e as a stored record.
+template <unsigned kOptional>
+inline void storeRecord(const ContactChunk& c, std::size_t e, double* record) {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<true, kOptional>[k]) record[at++] = c.historyRows[k][e];
+  }
+}
+
 /// The advanced history of the chunk's entry e (zero in the slots of terms the build leaves out).
 template <bool kFriction, unsigned kOptional>
 inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
@@ -378,41 +395,45 @@ void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
   plan.valid = true;
 }
 
-/// One block's springs rewritten in place by blockPairs: the stored spring of the pair holding
-/// the `read`-th one is source[read - sourceOffset]; the advanced springs of the pairs that
-/// touch now are written to the array's front, `written` of them so far.
+/// One block's springs rewritten in place by blockPairs, as records of S doubles: the stored
+/// record of the pair holding the `read`-th one is at source + (read - sourceOffset) S; the
+/// advanced records of the pairs that touch now are written to the array's front, `written` of
+/// them so far.
+template <std::size_t S>
 struct SpringCursor {
-  std::vector<ContactHistory>* array = nullptr;
-  const ContactHistory* source = nullptr;
-  std::size_t sourceOffset = 0, read = 0, written = 0, stored = 0;
+  std::vector<double>* array = nullptr;
+  const double* source = nullptr;
+  std::size_t sourceOffset = 0, read = 0, written = 0, stored = 0;  // in records
   bool setAside = false;
 
-  void start(std::vector<ContactHistory>& springs) {
+  void start(std::vector<double>& springs) {
     array = &springs;
     source = springs.data();
-    stored = springs.size();
+    stored = springs.size() / S;
   }
-  /// Room for m new springs after those written, once the springs up to `read` are loaded.
-  ContactHistory* write(std::size_t m, std::vector<ContactHistory>& aside) {
+  /// The record of the `index`-th held spring (index >= read).
+  const double* at(std::size_t index) const { return source + (index - sourceOffset) * S; }
+  /// Room for m new records after those written, once the records up to `read` are loaded.
+  double* write(std::size_t m, std::vector<double>& aside) {
     if (!setAside && written + m > read && read < stored) {
-      aside.assign(array->begin() + static_cast<std::ptrdiff_t>(read),
-                   array->begin() + static_cast<std::ptrdiff_t>(stored));
+      aside.assign(array->begin() + static_cast<std::ptrdiff_t>(read * S),
+                   array->begin() + static_cast<std::ptrdiff_t>(stored * S));
       source = aside.data();
       sourceOffset = read;
       setAside = true;
     }
-    if (written + m > array->size()) {
+    if ((written + m) * S > array->size()) {
       // An eighth more, not double: the springs are the largest array of a frictional bed, and
       // between two rebuilds (which lay every array out afresh) a block gains a few contacts.
-      if (written + m > array->capacity()) array->reserve((written + m) * 9 / 8 + 4);
-      array->resize(written + m);
+      if ((written + m) * S > array->capacity()) array->reserve(((written + m) * 9 / 8 + 4) * S);
+      array->resize((written + m) * S);
       if (!setAside) source = array->data();  // what is left to read kept its place
     }
-    ContactHistory* out = array->data() + written;
+    double* out = array->data() + written * S;
     written += m;
     return out;
   }
-  void finish() { array->resize(written); }
+  void finish() { array->resize(written * S); }
 };
 
 /// Wall candidates [begin, end) of one wall, examined for the chunk being filled.
@@ -430,7 +451,7 @@ template <bool kFriction, NormalLaw kLaw, unsigned kOptional>
 class PlannedPass {
  public:
   /// `aside`: this thread's array for the springs of a block set aside (SpringCursor).
-  PlannedPass(SimulationState& s, double dt, std::vector<ContactHistory>* aside)
+  PlannedPass(SimulationState& s, double dt, std::vector<double>* aside)
       : s_(s),
         p_(s.particles),
         list_(s.neighbours),
@@ -494,7 +515,8 @@ class PlannedPass {
     // rewritten in place: the springs of a chunk's touching pairs go to the array's front once
     // the chunk has read its own. Where they would overwrite springs not yet read (more pairs
     // touch than held springs so far), those are first set aside in *aside_.
-    SpringCursor springs;
+    constexpr std::size_t S = kRecordSlots<kOptional>;
+    SpringCursor<S> springs;
     std::uint64_t* heldWord = nullptr;  // the chunk's bits (PairSprings)
     if constexpr (kFriction) {
       static_assert(kChunk == 64, "a chunk's pairs are the bits of one word");
@@ -506,17 +528,17 @@ class PlannedPass {
       const std::size_t count = std::min(kChunk, end - begin);
       std::size_t m = 0;
       if constexpr (kFriction) {
-        const ContactHistory* spring[kChunk];  // each touching pair's stored spring
+        const double* spring[kChunk];  // each touching pair's stored record
         // Locals, not the cursor's fields, which the chunk's stores might alias for the compiler.
         const std::uint64_t heldBefore = *heldWord;
         std::uint64_t heldNow = 0;  // a contact that opened forgets its spring
-        const ContactHistory* next = springs.source + (springs.read - springs.sourceOffset);
+        const double* next = springs.at(springs.read);
         std::size_t read = 0;
         std::uint32_t starts[RowWalker::kMaxRun];
         std::uint32_t i = rows.mark(begin, count, starts);
         for (std::size_t k = begin; k < begin + count; ++k) {
           const std::size_t bit = k - begin, holds = (heldBefore >> bit) & 1;
-          spring[m] = holds ? next + read : &kNoSpring;
+          spring[m] = holds ? next + read * S : kNoRecord;
           read += holds;
           i += starts[bit];
           const std::size_t touching =
@@ -527,8 +549,8 @@ class PlannedPass {
         rows.reached(i);
         *heldWord++ = heldNow;
         springs.read += read;
-        loadPairs<kFriction, kOptional>(
-            p_, chunk, m, [&](std::size_t e) -> const ContactHistory& { return *spring[e]; });
+        loadPairs<kFriction, kOptional>(p_, chunk, m,
+                                        [&](std::size_t e) -> const double* { return spring[e]; });
       } else {
         m = pickTouchingPairs(p_, list_, begin, count, rows, chunk);
         loadPairs<kFriction, kOptional>(
@@ -579,8 +601,8 @@ class PlannedPass {
         if constexpr (kFriction) s_.torque[current] = torqueI;
       }
       if constexpr (kFriction) {
-        ContactHistory* out = springs.write(m, *aside_);
-        for (std::size_t e = 0; e < m; ++e) out[e] = springOf<kFriction, kOptional>(chunk, e);
+        double* out = springs.write(m, *aside_);
+        for (std::size_t e = 0; e < m; ++e) storeRecord<kOptional>(chunk, e, out + e * S);
       }
     }
     if constexpr (kFriction) springs.finish();
@@ -644,7 +666,7 @@ class PlannedPass {
   const ContactConstants constants_;
   const ChunkKernels kern_;
   const std::size_t walls_;
-  std::vector<ContactHistory>* const aside_;
+  std::vector<double>* const aside_;
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
@@ -664,6 +686,13 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
   const ForcePlan& plan = list.plan;
   const std::size_t blocks = list.blockParticle.size() - 1, crossings = plan.crossing.size();
   ContactScratch& out = s.contactScratch;
+  if constexpr (kFriction) {
+    // The records hold the slots of this build's terms (a material that switched an optional
+    // term on or off since the last pass: laid out again).
+    if (list.springs.optional != kOptional || list.springs.slots != kRecordSlots<kOptional>) {
+      relayOutPairSprings(list, kOptional);
+    }
+  }
   if constexpr (kFriction) {  // the straddling pairs' springs as they are before the pass
     resizeScratch(out.crossingSpring, crossings);
     SpringReader reader(list);  // crossing pairs come in ascending pair order
@@ -733,9 +762,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
     const std::size_t count = std::min(kChunk, pairs - begin);
     const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
-    loadPairs<kFriction, kOptional>(p, chunk, m, [&](std::size_t e) -> const ContactHistory& {
-      return springs->at(chunk.slot[e]);
-    });
+    loadPairs<kFriction, kOptional>(
+        p, chunk, m, [&](std::size_t e) -> ContactHistory { return springs->at(chunk.slot[e]); });
     kern.geometry(chunk, m, kFriction);
     kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
     for (std::size_t e = 0; e < m; ++e) {

@@ -4,9 +4,9 @@
 namespace granular {
 namespace {
 
-/// Copies one block's springs into its array, with room for a few new contacts.
-void fillBlock(std::vector<ContactHistory>& block, const std::vector<ContactHistory>& found) {
-  block.reserve(found.size() + found.size() / 16 + 2);
+/// Copies one block's records into its array, with room for a few new contacts.
+void fillBlock(std::vector<double>& block, const std::vector<double>& found, std::size_t slots) {
+  block.reserve(found.size() + (found.size() / slots / 16 + 2) * slots);
   block.assign(found.begin(), found.end());
 }
 
@@ -50,9 +50,12 @@ std::vector<ContactHistory> perPairSprings(const NeighbourList& list) {
   return perPair;
 }
 
-void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair) {
+void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair,
+                       unsigned optional) {
   PairSprings& springs = list.springs;
   springs = PairSprings{};
+  springs.optional = optional;
+  springs.slots = historyRecordSlots(optional);
   if (perPair.size() != list.second.size() || list.blockPair.back() != perPair.size()) {
     springs.held.assign(perPair.size(), 0);
     return;
@@ -60,16 +63,26 @@ void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& p
   const std::size_t blocks = list.blockPair.size() - 1;
   springs.held.assign(list.blockWord.back(), 0);
   springs.block.resize(blocks);
-  std::vector<ContactHistory> found;
+  std::vector<double> found;
   for (std::size_t b = 0; b < blocks; ++b) {
     found.clear();
     for (std::size_t k = list.blockPair[b]; k < list.blockPair[b + 1]; ++k) {
       if (!perPair[k].holdsSomething()) continue;
       setHeld(springs.held, list.blockPair, list.blockWord, b, k);
-      found.push_back(perPair[k]);
+      found.resize(found.size() + springs.slots);
+      compactRecord(perPair[k], optional, found.data() + found.size() - springs.slots);
     }
-    fillBlock(springs.block[b], found);
+    fillBlock(springs.block[b], found, springs.slots);
   }
+}
+
+void relayOutPairSprings(NeighbourList& list, unsigned optional) {
+  if (list.springs.block.empty()) {  // nothing held (frictionless, or no list yet)
+    list.springs.optional = optional;
+    list.springs.slots = historyRecordSlots(optional);
+    return;
+  }
+  layOutPairSprings(list, perPairSprings(list), optional);
 }
 
 PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& rowStart,
@@ -77,6 +90,9 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
                              const std::vector<std::uint32_t>& blockPair,
                              const std::vector<std::uint32_t>& blockWord) {
   PairSprings out;
+  out.optional = old.springs.optional;
+  out.slots = historyRecordSlots(out.optional);
+  const std::size_t slots = out.slots;
   const std::size_t blocks = blockPair.size() - 1;
   out.held.assign(blockWord.back(), 0);
   out.block.resize(blocks);
@@ -90,14 +106,14 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
   std::size_t a = 0, oldBlock = 0, index = 0;
   auto skipPassedBlocks = [&] {
     while (oldBlock + 1 < old.blockPair.size() && a >= old.blockPair[oldBlock + 1]) {
-      std::vector<ContactHistory>().swap(from.block[oldBlock]);  // passed: free it
+      std::vector<double>().swap(from.block[oldBlock]);  // passed: free it
       ++oldBlock;
       index = 0;
     }
   };
   auto oldHeld = [&] { return holds(from.held, old.blockPair, old.blockWord, oldBlock, a); };
   if (oldPairs > 0) skipPassedBlocks();
-  std::vector<ContactHistory> found;
+  std::vector<double> found;
   for (std::size_t b = 0; b < blocks; ++b) {
     found.clear();
     for (std::size_t k = blockPair[b]; k < blockPair[b + 1]; ++k) {
@@ -109,10 +125,11 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
       }
       if (a < oldPairs && oldKeys.at(a) == key && oldHeld()) {
         setHeld(out.held, blockPair, blockWord, b, k);
-        found.push_back(from.block[oldBlock][index]);
+        const double* record = from.block[oldBlock].data() + index * slots;
+        found.insert(found.end(), record, record + slots);
       }
     }
-    fillBlock(out.block[b], found);
+    fillBlock(out.block[b], found, slots);
   }
   from = PairSprings{};
   return out;

@@ -7,12 +7,38 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact_law.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
 
 /// The spring of a pair that holds none: no stretch, no stiffness.
 inline const ContactHistory kNoSpring{};
+/// The same as a stored record (every record is at most this long).
+inline constexpr double kNoRecord[kHistorySlots] = {};
+
+/// Doubles in a stored record for a scene with the optional terms `optional` (PairSprings).
+inline std::size_t historyRecordSlots(unsigned optional) {
+  std::size_t n = 0;
+  for (bool included : kHistorySlotsByMask[optional]) n += included ? 1 : 0;
+  return n;
+}
+/// A stored record as the contact's history (zero in the slots it does not hold).
+inline ContactHistory expandRecord(const double* record, unsigned optional) {
+  ContactHistory h;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kHistorySlotsByMask[optional][k]) h.slot[k] = record[at++];
+  }
+  return h;
+}
+/// The record of a contact's history (the slots of the terms `optional` includes).
+inline void compactRecord(const ContactHistory& h, unsigned optional, double* record) {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kHistorySlotsByMask[optional][k]) record[at++] = h.slot[k];
+  }
+}
 
 /// The bits below bit `bit` of a word.
 inline std::uint64_t bitsBelow(std::uint64_t word, std::size_t bit) {
@@ -35,7 +61,7 @@ inline HeldBit heldBit(const std::vector<std::uint32_t>& blockPair, std::size_t 
 class SpringReader {
  public:
   explicit SpringReader(const NeighbourList& list) : list_(list) {}
-  const ContactHistory& at(std::size_t k) {
+  ContactHistory at(std::size_t k) {
     const std::vector<std::uint32_t>& blockPair = list_.blockPair;
     if (k >= blockPair[block_ + 1]) {
       do ++block_;
@@ -47,8 +73,10 @@ class SpringReader {
     const std::uint64_t* held = list_.springs.held.data() + list_.blockWord[block_];
     for (; words_ < w; ++words_) before_ += static_cast<std::size_t>(std::popcount(held[words_]));
     if (((held[w] >> bit) & 1) == 0) return kNoSpring;
-    return list_.springs
-        .block[block_][before_ + static_cast<std::size_t>(std::popcount(bitsBelow(held[w], bit)))];
+    const PairSprings& springs = list_.springs;
+    const std::size_t index =
+        before_ + static_cast<std::size_t>(std::popcount(bitsBelow(held[w], bit)));
+    return expandRecord(springs.block[block_].data() + index * springs.slots, springs.optional);
   }
 
  private:
@@ -63,10 +91,17 @@ class SpringReader {
 std::vector<ContactHistory> perPairSprings(const NeighbourList& list);
 
 /// Lays out one spring per candidate pair (as perPairSprings gives them) into list.springs for
-/// the list's blocks; a pair holds its spring if any of its numbers is nonzero. If the count
+/// the list's blocks, as records of the slots the optional terms `optional` include; a pair
+/// holds its spring if any of its numbers is nonzero. If the count
 /// does not match the list's pairs (none at all: the frictionless path), `held` gets one word
 /// per given spring and no block (the state checks report a mismatch on a frictional path).
-void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair);
+void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& perPair,
+                       unsigned optional);
+
+/// Lays the list's springs out again as records for the optional terms `optional` (a scene whose
+/// material switched one on or off): the slots of a term switched off are dropped, those of one
+/// switched on start at zero.
+void relayOutPairSprings(NeighbourList& list, unsigned optional);
 
 /// The springs of the pairs of `old` that are also in the new list (rowStart, second, sorted,
 /// with its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays

@@ -51,9 +51,16 @@ struct ForcePlan {
 /// Which pairs hold one is a bit per pair, in 64-bit words of 64 consecutive pairs counted from
 /// each block's first pair: block b's pair blockPair[b] + 64 w + i is bit i of word
 /// blockWord[b] + w. A word is one chunk of the force pass, whose thread owns it.
+///
+/// A held spring is a record of `slots` doubles: the history slots of the terms the scene's law
+/// includes (those of an optional term it leaves off are not stored: a frictional scene without
+/// rolling resistance keeps 4 doubles a contact, not 8); `optional` says which optional terms
+/// (kOptional's bits). pair_springs.hpp turns a record into a ContactHistory and back.
 struct PairSprings {
   std::vector<std::uint64_t> held;
-  std::vector<std::vector<ContactHistory>> block;  ///< per particle block, ascending pair
+  std::vector<std::vector<double>> block;  ///< per particle block, ascending pair, `slots` each
+  unsigned optional = 0;                   ///< the optional terms whose slots records hold
+  std::size_t slots = 0;                   ///< doubles a record (historyRecordSlots(optional))
 };
 
 /// Candidate contacts within R_i + R_j + skin, rebuilt when particles (or walls) have moved more
@@ -197,7 +204,7 @@ struct ContactScratch {
   std::vector<ContactHistory> crossingSpring;
   /// Per thread of the pass (friction only): the springs of its block not yet read when the
   /// block's new springs would overwrite them (force_pass.cpp, SpringCursor).
-  std::vector<std::vector<ContactHistory>> springsSetAside;
+  std::vector<std::vector<double>> springsSetAside;
   std::vector<ContactPowers> blockPowers;  ///< per particle block
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
 };

@@ -10,6 +10,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
+#include "pair_springs.hpp"
 
 namespace granular {
 
@@ -136,14 +137,15 @@ void checkWalls(const Checker& c, const SimulationState& s) {
 }
 
 /// Every slot finite, and each term's own rule for its slots (contact_model.hpp).
-void checkHistory(const Checker& c, const std::vector<ContactHistory>& history) {
-  for (const ContactHistory& h : history) {
-    for (const double x : h.slot) c.finite(x, "a contact history slot");
-    for (const TermSpec& term : contactTerms()) {
-      if (!term.historyProblem) continue;
-      if (const char* problem = term.historyProblem(h.slot + term.historyOffset)) c.fail(problem);
-    }
+void checkHistory(const Checker& c, const ContactHistory& h) {
+  for (const double x : h.slot) c.finite(x, "a contact history slot");
+  for (const TermSpec& term : contactTerms()) {
+    if (!term.historyProblem) continue;
+    if (const char* problem = term.historyProblem(h.slot + term.historyOffset)) c.fail(problem);
   }
+}
+void checkHistory(const Checker& c, const std::vector<ContactHistory>& history) {
+  for (const ContactHistory& h : history) checkHistory(c, h);
 }
 
 void checkNeighbours(const Checker& c, const SimulationState& s) {
@@ -180,8 +182,15 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
       for (std::size_t w = list.blockWord[b]; w < list.blockWord[b + 1]; ++w) {
         held += static_cast<std::size_t>(std::popcount(list.springs.held[w]));
       }
-      c.sized(list.springs.block[b], held, "a block of pair history");
-      checkHistory(c, list.springs.block[b]);
+      const PairSprings& springs = list.springs;
+      c.require(springs.optional < kHistorySlotsByMask.size() &&
+                    springs.slots == historyRecordSlots(springs.optional),
+                "pair history records do not match their terms");
+      c.sized(springs.block[b], held * springs.slots, "a block of pair history");
+      for (std::size_t k = 0; k < held; ++k) {
+        checkHistory(c,
+                     expandRecord(springs.block[b].data() + k * springs.slots, springs.optional));
+      }
     }
   }
   const std::size_t walls = s.walls.size();
