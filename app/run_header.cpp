@@ -7,6 +7,7 @@
 
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
+#include "granular/contact_model.hpp"
 #include "granular/error.hpp"
 #include "stop_signals.hpp"
 
@@ -68,6 +69,12 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
     out << "; constant k_t = " << format("%.6g", config.material.tangentialStiffness) << " N/m";
   }
   out << "\n";
+  // The optional terms of the contact model the material switches on (rolling resistance).
+  std::string optional;
+  for (const TermSpec& term : contactTerms()) {
+    if (term.active && term.active(config.material)) optional.append(" ").append(term.name);
+  }
+  if (!optional.empty()) out << "terms      " << optional << " (optional terms in use)\n";
   out << "walls      ";
   for (const Wall& wall : sim.walls()) out << " " << wall.name;
   out << "\nstages     ";
