@@ -1,6 +1,6 @@
 #pragma once
 /// Rolling resistance, the elastic–plastic spring–dashpot ("EPSD", type C) model of Ai, Chen,
-/// Rotter & Ooi, Powder Technology 206 (2011) 269–282 (docs/physics.md §2.11): on i (its
+/// Rotter & Ooi, Powder Technology 206 (2011) 269–282 (docs/physics.md §2.13): on i (its
 /// opposite on the other body) the spring torque −k_r θ of the relative rotation θ accumulated
 /// while the contact lasts (ω_r = the tangential part of ω_i − ω_other), capped at μ_r R_ij F_n,
 /// plus the dashpot −C_r ω_r while the spring is below the cap. At the cap the spring is reset so

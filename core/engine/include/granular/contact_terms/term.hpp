@@ -14,7 +14,12 @@
 ///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
 ///   - optionally `rule`: a rule between its parameters that no single range states, returning
 ///     a RuleProblem (validateMaterial and the scene loader apply it);
-///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them).
+///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them);
+///   - optionally `active(const Parameters&)`: the term is optional and acts only where this
+///     says (the law is built with and without it; a scene without it pays nothing), `Constants`
+///     with `constants(const Parameters&)` (its own constants, once a pass; the kernel reads them
+///     as `k.template of<Term>()`), and `pureTorque` (the kernel writes a couple into the chunk's
+///     q rows: +q on i, −q on the other body).
 /// Everything that lists material parameters (the scene loader, the one validation, the state
 /// checks, the checkpoint, the scene fingerprint, the GUI, the docs test) reads these
 /// declarations through granular/contact_model.hpp, so a new term is one file and a line in the
