@@ -36,6 +36,17 @@ struct ParametersOf<TermList<Terms...>> : Terms::Parameters... {};
 
 struct Material;  // granular/material.hpp
 
+/// Where term T's run begins when the terms, in order, each take `sizeOf(term)` places.
+template <class T, class... Terms, class SizeOf>
+constexpr std::size_t runOffset(SizeOf sizeOf) {
+  std::size_t at = 0;
+  bool found = false;
+  ((found = found || std::is_same_v<T, Terms>,
+    at += found ? 0 : sizeOf(std::type_identity<Terms>{})),
+   ...);
+  return at;
+}
+
 /// The per-contact history slots of all terms (doubles), and where term T's begin.
 template <class List>
 struct HistoryLayout;
@@ -44,10 +55,7 @@ struct HistoryLayout<TermList<Terms...>> {
   static constexpr std::size_t slots = (Terms::history.size() + ...);
   template <class T>
   static constexpr std::size_t offset() {
-    std::size_t at = 0;
-    bool found = false;
-    ((found = found || std::is_same_v<T, Terms>, at += found ? 0 : Terms::history.size()), ...);
-    return at;
+    return runOffset<T, Terms...>([](auto t) { return decltype(t)::type::history.size(); });
   }
 };
 inline constexpr std::size_t kHistorySlots = HistoryLayout<ContactModel>::slots;
@@ -63,10 +71,7 @@ struct EnergyLayout<TermList<Terms...>> {
   static constexpr std::size_t slots = (Terms::energy.size() + ...);
   template <class T>
   static constexpr std::size_t offset() {
-    std::size_t at = 0;
-    bool found = false;
-    ((found = found || std::is_same_v<T, Terms>, at += found ? 0 : Terms::energy.size()), ...);
-    return at;
+    return runOffset<T, Terms...>([](auto t) { return decltype(t)::type::energy.size(); });
   }
   /// Per slot: its kind.
   struct Slot {
