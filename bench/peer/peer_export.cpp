@@ -244,6 +244,9 @@ void writeLammps(const Simulation& sim, const Stage2Setup& setup, int radiusType
   if (sim.config().material.normalLaw != NormalLaw::Hooke) {
     throw std::runtime_error("the LAMMPS export supports the Hooke law only (the paper's)");
   }
+  if (sim.config().material.rollingFriction > 0.0) {  // the peers' rolling models differ
+    throw std::runtime_error("the LAMMPS export has no rolling resistance (rolling_friction = 0)");
+  }
   std::filesystem::create_directories(dir);
   LammpsModel lm{classifyRadii(sim.particles(), radiusTypes), perClassWalls, true};
   writeDataFile(dir / "packing.data", sim.particles(), lm.classes, radiusTypes,
@@ -318,6 +321,9 @@ void writeLiggghts(const Simulation& sim, const Stage2Setup& setup, int radiusTy
                    const std::filesystem::path& dir) {
   if (sim.config().material.normalLaw != NormalLaw::Hooke) {
     throw std::runtime_error("the LIGGGHTS export supports the Hooke law only (the paper's)");
+  }
+  if (sim.config().material.rollingFriction > 0.0) {  // the peers' rolling models differ
+    throw std::runtime_error("the LIGGGHTS export has no rolling resistance (rolling_friction = 0)");
   }
   std::filesystem::create_directories(dir);
   const Particles& p = sim.particles();
