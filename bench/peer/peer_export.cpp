@@ -323,7 +323,8 @@ void writeLiggghts(const Simulation& sim, const Stage2Setup& setup, int radiusTy
     throw std::runtime_error("the LIGGGHTS export supports the Hooke law only (the paper's)");
   }
   if (sim.config().material.rollingFriction > 0.0) {  // the peers' rolling models differ
-    throw std::runtime_error("the LIGGGHTS export has no rolling resistance (rolling_friction = 0)");
+    throw std::runtime_error(
+        "the LIGGGHTS export has no rolling resistance (rolling_friction = 0)");
   }
   std::filesystem::create_directories(dir);
   const Particles& p = sim.particles();
