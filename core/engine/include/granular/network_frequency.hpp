@@ -1,0 +1,49 @@
+#pragma once
+/// The highest eigenfrequency of the live contact network, bounded from above (docs/physics.md
+/// §2.14): the contacts as linear springs about the current state (normal k_n = dF_n/dh,
+/// tangential k_t at the contact points where friction is on, rolling k_r where rolling
+/// resistance is on), the particles as rigid bodies (translations; rotations with friction).
+/// The bound is the block Gershgorin bound of the mass-weighted stiffness matrix
+/// A = M^(-1/2) K M^(-1/2), computed contact by contact in O(contacts); tests check it against
+/// the exact spectrum (tests/test_network_frequency.cpp). It is the basis of a step chosen from
+/// the network rather than from the stiffest binary contact.
+#include <cstddef>
+
+#include "granular/material.hpp"
+#include "granular/simulation.hpp"
+
+namespace granular {
+
+/// The linear stiffnesses of one contact at overlap h [m] between bodies of reduced radius R_ij
+/// [m] (a wall contact: R_i): normal k_n = dF_n^e/dh [N/m]; tangential k_t [N/m] (0 without
+/// friction); rolling k_r [N m/rad] (0 without rolling resistance).
+struct ContactStiffness {
+  double normal = 0, tangential = 0, rolling = 0;
+};
+ContactStiffness contactStiffness(const Material& material, double reducedRadius, double overlap);
+
+/// One body of a contact as the linearised network sees it: its mass [kg], moment of inertia
+/// [kg m²] and the lever arm R − h/2 of the contact point [m].
+struct ContactBody {
+  double mass = 0, inertia = 0, arm = 0;
+};
+
+/// ‖G‖ for one body of a contact: the largest gain from that body's mass-weighted
+/// displacement (translation ũ = √m u and, with `rotations`, rotation φ̃ = √I φ) to the
+/// contact's spring stretches weighted by √k (normal, tangential at the contact point, rolling).
+/// A contact's part of A between bodies i and j is G_i^T G_j, so its norm is at most
+/// gain_i · gain_j.
+double contactGain(const ContactStiffness& k, const ContactBody& body, bool rotations);
+
+/// The bound on ω_max [rad/s] of the network as it is now, and the particle whose row sets it.
+/// With `sweeps` = 0 it is the block Gershgorin bound: the largest Σ over a particle's contacts
+/// of gain_i (gain_i + gain_other). Each sweep of the power method on the contacts' gain matrix
+/// lowers it, still an upper bound (Collatz–Wielandt). 0 with no contacts.
+struct NetworkFrequency {
+  double omegaMax = 0;
+  std::size_t particle = 0;
+  std::size_t contacts = 0;
+};
+NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32);
+
+}  // namespace granular
