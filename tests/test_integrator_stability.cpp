@@ -1,0 +1,105 @@
+/// The integrators' stability on a damped oscillator x'' = −ω² x − 2ζω x', as they are
+/// implemented (Gear5::predict/correct with c0 = 3/20, velocity Verlet with the dashpot at the
+/// predicted velocity): one step is a linear map of the state (x, v, a[, x''', x'''', x''''']);
+/// its matrix, built by stepping each unit vector, and the matrix's spectral radius ρ say
+/// whether errors grow. docs/physics.md §2.15 tabulates the largest stable ω Δt against ζ.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <numbers>
+
+#include "integrators.hpp"
+
+using namespace granular;
+
+namespace {
+
+/// ρ of one step of `scheme` at ω Δt = `w` (ω = 1), damping ratio ζ.
+double spectralRadius(Integrator scheme, double w, double zeta) {
+  const bool gear = scheme == Integrator::Gear5;
+  const int n = gear ? 6 : 3;
+  Eigen::MatrixXd step(n, n);
+  for (int k = 0; k < n; ++k) {
+    Eigen::VectorXd s = Eigen::VectorXd::Zero(n);
+    s[k] = 1.0;
+    std::vector<Vec3> x{Vec3(s[0], 0, 0)}, v{Vec3(s[1], 0, 0)}, a(1);
+    Derivatives d;
+    d.d2 = {Vec3(s[2], 0, 0)};
+    auto accel = [&] { return Vec3(-x[0].x() - 2.0 * zeta * v[0].x(), 0, 0); };
+    if (gear) {
+      d.d3 = {Vec3(s[3], 0, 0)};
+      d.d4 = {Vec3(s[4], 0, 0)};
+      d.d5 = {Vec3(s[5], 0, 0)};
+      Gear5::predict(&x, v, d, w);
+      a[0] = accel();
+      Gear5::correct(&x, v, d, a, w);
+    } else {
+      VelocityVerlet::drift(&x, v, d, w);
+      a[0] = accel();
+      VelocityVerlet::kick(v, d, a, w);
+    }
+    Eigen::VectorXd out(n);
+    out[0] = x[0].x();
+    out[1] = v[0].x();
+    out[2] = d.d2[0].x();
+    if (gear) {
+      out[3] = d.d3[0].x();
+      out[4] = d.d4[0].x();
+      out[5] = d.d5[0].x();
+    }
+    step.col(k) = out;
+  }
+  return Eigen::EigenSolver<Eigen::MatrixXd>(step).eigenvalues().cwiseAbs().maxCoeff();
+}
+
+/// The largest ω Δt (to 10⁻³) below which ρ <= 1 + 10⁻⁹ throughout.
+double stableLimit(Integrator scheme, double zeta) {
+  double last = 0.0;
+  for (double w = 1e-3; w < 4.0; w += 1e-3) {
+    if (spectralRadius(scheme, w, zeta) > 1.0 + 1e-9) break;
+    last = w;
+  }
+  return last;
+}
+
+}  // namespace
+
+TEST(IntegratorStability, UndampedVerletIsStableUpToOmegaDtOfTwo) {
+  // The central-difference limit: ω Δt < 2, with |eigenvalues| = 1 exactly below it.
+  EXPECT_NEAR(stableLimit(Integrator::VelocityVerlet, 0.0), 2.0, 2e-3);
+  EXPECT_NEAR(spectralRadius(Integrator::VelocityVerlet, 1.0, 0.0), 1.0, 1e-12);
+}
+
+TEST(IntegratorStability, DampingShrinksVerletsInterval) {
+  double previous = 2.0;
+  for (double zeta : {0.1, 0.3, 0.5, 1.0, 2.0}) {
+    const double limit = stableLimit(Integrator::VelocityVerlet, zeta);
+    EXPECT_LT(limit, previous) << zeta;
+    // Strongly damped, the dashpot's rate 2ζω sets it: 2ζω Δt just under 1.
+    if (zeta >= 1.0) {
+      EXPECT_NEAR(2.0 * zeta * limit, 0.96, 0.03) << zeta;
+    }
+    previous = limit;
+  }
+}
+
+TEST(IntegratorStability, GearHoldsADamperForRateTimesDtUpToAbout0163) {
+  // The rule the engine's tangential-damping limit uses (docs/scenes.md): 2ζω Δt <= 0.163.
+  for (double zeta : {0.5, 1.0, 2.0}) {
+    const double limit = stableLimit(Integrator::Gear5, zeta);
+    EXPECT_NEAR(2.0 * zeta * limit, 0.160, 0.006) << zeta;
+  }
+}
+
+TEST(IntegratorStability, UndampedGearGrowsSlowlyAndTheStepOfTcOver50KeepsItNegligible) {
+  // Gear's predictor-corrector is never exactly stable on an undamped oscillator: ρ exceeds 1 by
+  // a power of ω Δt. At the paper's step (t_c/50, ω Δt = π/50) that is below 10⁻¹⁰ a step, so
+  // 10⁵ steps grow an error by less than 10⁻⁵; at t_c/10 (ω Δt = π/10), 10⁻⁵ a step: e^0.6 over
+  // 10⁵ steps.
+  const double atTcOver50 = spectralRadius(Integrator::Gear5, std::numbers::pi / 50, 0.0) - 1.0;
+  const double atTcOver10 = spectralRadius(Integrator::Gear5, std::numbers::pi / 10, 0.0) - 1.0;
+  EXPECT_LT(atTcOver50, 1e-10);
+  EXPECT_GT(atTcOver10, 1e-6);
+  EXPECT_LT(atTcOver10, 1e-4);
+}
