@@ -1,0 +1,27 @@
+#pragma once
+/// The time step the live contact network allows (docs/physics.md §2.14–2.15): the bound on its
+/// highest frequency (network_frequency.hpp) under the integrator's own stability interval at
+/// the network's largest damping ratio.
+#include <cstddef>
+
+#include "granular/material.hpp"
+#include "granular/simulation.hpp"
+
+namespace granular {
+
+/// The largest ω Δt at which one step of `integrator`, as implemented, on x'' = −ω² x − 2ζω x'
+/// has spectral radius at most 1 + `growthPerStep` (Gear5 is never exactly stable undamped: its
+/// growth per step is a power of ω Δt; velocity Verlet is, up to ω Δt = 2). Computed from the
+/// step's linear map, by bisection to 10⁻⁶.
+double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep = 1e-10);
+
+/// The step the network allows now and what sets it.
+struct NetworkStep {
+  double dt = 0;        ///< stableOmegaDt(ζ) / ω_max [s]; +∞ with no contacts
+  double omegaMax = 0;  ///< the network's frequency bound [rad/s]
+  double zeta = 0;      ///< the largest damping ratio of a contact's normal or tangential mode
+  std::size_t particle = 0;
+};
+NetworkStep networkStableStep(const Simulation& sim);
+
+}  // namespace granular

@@ -1,0 +1,94 @@
+/// The step the network allows (granular/network_step.hpp): the integrators' intervals from
+/// their own step maps, and a chain held between two walls run at 0.95 × and 1.2 × the step its
+/// network gives. The chain is bipartite, so the frequency bound's power sweeps converge to its
+/// exact ω_max and Verlet's step is sharp: just below it the energy stays bounded for 10⁵ steps,
+/// just above it grows without bound.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "granular/contact_theory.hpp"
+#include "granular/engine_studies.hpp"
+#include "granular/network_frequency.hpp"
+#include "granular/network_step.hpp"
+
+using namespace granular;
+
+namespace {
+
+constexpr double kR = 0.03, kWallOverlap = 1e-4;  // [m]
+
+/// Three spheres in a row between walls at x = 0 and x = L, every contact pressed with the same
+/// force (the pairs' overlap twice the walls': R_ij = R/2), no gravity, no damping, the middle
+/// sphere nudged along x.
+Simulation pressedChain(Integrator integrator) {
+  SimulationConfig cfg;
+  cfg.material.normalDamping = 0.0;
+  cfg.gravity = Vec3::Zero();
+  cfg.integrator = integrator;
+  cfg.threads = 1;
+  cfg.timeStep = stiffestContact(cfg.material, kR, 1.0).duration / 100;
+  const double hw = kWallOverlap, hp = 2 * kWallOverlap;
+  Particles p;
+  double x = kR - hw;
+  for (int k = 0; k < 3; ++k) {
+    p.add(Vec3(x, 0.5, 0.5), kR, cfg.material.density, Vec3(k == 1 ? 1e-3 : 0.0, 0, 0));
+    x += 2 * kR - hp;
+  }
+  const double length = x - (2 * kR - hp) + kR - hw;
+  std::vector<Wall> walls = {{"x-", Vec3::Zero(), Vec3::UnitX()},
+                             {"x+", Vec3(length, 0, 0), -Vec3::UnitX()},
+                             {"floor", Vec3(0, 0, -10), Vec3::UnitZ()}};
+  return Simulation(std::move(p), walls, cfg);
+}
+
+/// The largest |E(t) − E(0)|/E(0) over `steps` steps at `dt` (∞ if the state breaks).
+double energyGrowth(Simulation sim, double dt, long steps) {
+  studies::disableStepLimit(sim, true);
+  sim.setTimeStep(dt);
+  const double start = sim.energy().total();
+  double worst = 0;
+  try {
+    for (long k = 0; k < steps; ++k) {
+      sim.step();
+      if (k % 100 == 0) {
+        worst = std::max(worst, std::abs(sim.energy().total() - start) / std::abs(start));
+        if (!(worst < 1e6)) return worst;
+      }
+    }
+  } catch (const std::exception&) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(NetworkStep, VerletsUndampedIntervalIsTwoAndGearsMeetsItsGrowthBudget) {
+  EXPECT_NEAR(stableOmegaDt(Integrator::VelocityVerlet, 0.0), 2.0, 1e-5);
+  // Gear at the paper's t_c/50 (ω Δt = π/50) grows less than 10⁻¹⁰ a step.
+  EXPECT_GT(stableOmegaDt(Integrator::Gear5, 0.0), std::numbers::pi / 50);
+  EXPECT_LT(stableOmegaDt(Integrator::Gear5, 0.0), std::numbers::pi / 10);
+  // Damping shortens both.
+  EXPECT_LT(stableOmegaDt(Integrator::VelocityVerlet, 0.5), 2.0);
+  EXPECT_LT(stableOmegaDt(Integrator::Gear5, 0.5), stableOmegaDt(Integrator::Gear5, 0.1));
+}
+
+TEST(NetworkStep, APressedChainRunsBelowItsNetworkStepAndBreaksAboveIt) {
+  // Verlet's interval ends sharply (ρ = 1 up to ω Δt = 2, then > 1): the chain's energy stays
+  // within its shadow oscillation at 0.95 × and explodes at 1.2 ×.
+  const Simulation chain = pressedChain(Integrator::VelocityVerlet);
+  const NetworkStep step = networkStableStep(chain);
+  EXPECT_EQ(step.zeta, 0.0);
+  EXPECT_LT(energyGrowth(pressedChain(Integrator::VelocityVerlet), 0.95 * step.dt, 100000), 1e-2);
+  EXPECT_GT(energyGrowth(pressedChain(Integrator::VelocityVerlet), 1.2 * step.dt, 100000), 10.0);
+}
+
+TEST(NetworkStep, GearAtItsNetworkStepStaysWithinItsGrowthBudget) {
+  // Undamped Gear5 has no sharp limit: its step is the one that grows an error by at most
+  // 10⁻¹⁰ a step, 10⁻⁵ over 10⁵ steps (truncation errors come on top and do not grow).
+  const Simulation chain = pressedChain(Integrator::Gear5);
+  const NetworkStep step = networkStableStep(chain);
+  EXPECT_LT(energyGrowth(pressedChain(Integrator::Gear5), 0.95 * step.dt, 100000), 1e-5);
+}
