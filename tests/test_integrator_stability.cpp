@@ -1,15 +1,14 @@
 /// The integrators' stability on a damped oscillator x'' = −ω² x − 2ζω x', as they are
 /// implemented (Gear5::predict/correct with c0 = 3/20, velocity Verlet with the dashpot at the
 /// predicted velocity): one step is a linear map of the state (x, v, a[, x''', x'''', x''''']);
-/// its matrix, built by stepping each unit vector, and the matrix's spectral radius ρ say
-/// whether errors grow. docs/physics.md §2.15 tabulates the largest stable ω Δt against ζ.
+/// its spectral radius ρ (stepSpectralRadius, granular/network_step.hpp) says whether errors
+/// grow. docs/physics.md §2.15 tabulates the largest stable ω Δt against ζ.
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
 #include <cmath>
 #include <numbers>
 
-#include "integrators.hpp"
+#include "granular/network_step.hpp"
 
 using namespace granular;
 
@@ -17,40 +16,7 @@ namespace {
 
 /// ρ of one step of `scheme` at ω Δt = `w` (ω = 1), damping ratio ζ.
 double spectralRadius(Integrator scheme, double w, double zeta) {
-  const bool gear = scheme == Integrator::Gear5;
-  const int n = gear ? 6 : 3;
-  Eigen::MatrixXd step(n, n);
-  for (int k = 0; k < n; ++k) {
-    Eigen::VectorXd s = Eigen::VectorXd::Zero(n);
-    s[k] = 1.0;
-    std::vector<Vec3> x{Vec3(s[0], 0, 0)}, v{Vec3(s[1], 0, 0)}, a(1);
-    Derivatives d;
-    d.d2 = {Vec3(s[2], 0, 0)};
-    auto accel = [&] { return Vec3(-x[0].x() - 2.0 * zeta * v[0].x(), 0, 0); };
-    if (gear) {
-      d.d3 = {Vec3(s[3], 0, 0)};
-      d.d4 = {Vec3(s[4], 0, 0)};
-      d.d5 = {Vec3(s[5], 0, 0)};
-      Gear5::predict(&x, v, d, w);
-      a[0] = accel();
-      Gear5::correct(&x, v, d, a, w);
-    } else {
-      VelocityVerlet::drift(&x, v, d, w);
-      a[0] = accel();
-      VelocityVerlet::kick(v, d, a, w);
-    }
-    Eigen::VectorXd out(n);
-    out[0] = x[0].x();
-    out[1] = v[0].x();
-    out[2] = d.d2[0].x();
-    if (gear) {
-      out[3] = d.d3[0].x();
-      out[4] = d.d4[0].x();
-      out[5] = d.d5[0].x();
-    }
-    step.col(k) = out;
-  }
-  return Eigen::EigenSolver<Eigen::MatrixXd>(step).eigenvalues().cwiseAbs().maxCoeff();
+  return stepSpectralRadius(scheme, w, zeta);
 }
 
 /// The largest ω Δt (to 10⁻³) below which ρ <= 1 + 10⁻⁹ throughout.

@@ -10,19 +10,22 @@
 namespace granular {
 
 ContactStiffness contactStiffness(const Material& material, double reducedRadius, double overlap) {
+  // The terms' own formulas (contact_terms/), as the force pass evaluates them.
   ContactStiffness k;
   const double kappa = material.normalCoefficient();
   const double h = std::max(overlap, 0.0);
-  k.normal = material.normalLaw == NormalLaw::Hooke ? kappa * reducedRadius
-                                                    : 1.5 * kappa * std::sqrt(reducedRadius * h);
+  k.normal = material.normalLaw == NormalLaw::Hooke
+                 ? NormalElastic::stiffness<NormalLaw::Hooke>(kappa, reducedRadius, h)
+                 : NormalElastic::stiffness<NormalLaw::Hertz>(kappa, reducedRadius, h);
   if (material.hasFriction()) {
-    k.tangential = material.tangentialLaw == TangentialLaw::Constant
-                       ? material.tangentialStiffness
-                       : material.tangentialCoefficient() * std::sqrt(reducedRadius * h);
+    const double constant =
+        material.tangentialLaw == TangentialLaw::Constant ? material.tangentialStiffness : 0.0;
+    k.tangential =
+        TangentialSpring::stiffness(material.tangentialCoefficient(), constant, reducedRadius, h);
   }
   if (RollingResistance::active(material)) {
-    k.rolling = material.rollingStiffness * material.rollingFriction * material.rollingFriction *
-                k.normal * reducedRadius * reducedRadius;
+    k.rolling =
+        RollingResistance::constants(material).stiffness * k.normal * reducedRadius * reducedRadius;
   }
   return k;
 }
@@ -62,11 +65,20 @@ NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps) {
     return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
   };
   NetworkFrequency out;
+  auto damping = [&](const ContactStiffness& k, double mass) {
+    double zeta = 0.5 * material.normalDamping * std::sqrt(mass / k.normal);
+    if (k.tangential > 0.0) {
+      zeta = std::max(zeta, 0.5 * material.tangentialDamping * std::sqrt(mass / k.tangential));
+    }
+    if (k.rolling > 0.0) zeta = std::max(zeta, material.rollingDamping);
+    out.dampingRatio = std::max(out.dampingRatio, zeta);
+  };
   sim.forEachContact([&](const ContactView& c) {
     const std::size_t i = c.particle;
     if (c.isWall()) {
-      const double gain = contactGain(contactStiffness(material, p.radius[i], c.overlap),
-                                      body(i, c.overlap), rotations);
+      const ContactStiffness k = contactStiffness(material, p.radius[i], c.overlap);
+      damping(k, p.mass[i]);
+      const double gain = contactGain(k, body(i, c.overlap), rotations);
       diagonal[i] += gain * gain;
       ++out.contacts;
       return;
@@ -75,6 +87,7 @@ NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps) {
     if (j < i) return;  // each pair once (the view sees it from both sides)
     const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
     const ContactStiffness k = contactStiffness(material, reduced, c.overlap);
+    damping(k, p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]));
     const double gi = contactGain(k, body(i, c.overlap), rotations);
     const double gj = contactGain(k, body(j, c.overlap), rotations);
     diagonal[i] += gi * gi;

@@ -11,10 +11,8 @@
 #include "integrators.hpp"
 
 namespace granular {
-namespace {
 
-/// ρ of one step at ω Δt = w (ω = 1) through the integrator's own functions.
-double spectralRadius(Integrator integrator, double w, double zeta) {
+double stepSpectralRadius(Integrator integrator, double w, double zeta) {
   const bool gear = integrator == Integrator::Gear5;
   const int n = gear ? 6 : 3;
   Eigen::MatrixXd step(n, n);
@@ -47,11 +45,9 @@ double spectralRadius(Integrator integrator, double w, double zeta) {
   return Eigen::EigenSolver<Eigen::MatrixXd>(step).eigenvalues().cwiseAbs().maxCoeff();
 }
 
-}  // namespace
-
 double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep) {
   auto stable = [&](double w) {
-    return spectralRadius(integrator, w, zeta) <= 1.0 + growthPerStep;
+    return stepSpectralRadius(integrator, w, zeta) <= 1.0 + growthPerStep;
   };
   // Scan up in steps of 10⁻², then bisect the first unstable bracket: the interval starts at 0.
   double lo = 0.0, hi = 0.0;
@@ -71,33 +67,11 @@ double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep) {
 }
 
 NetworkStep networkStableStep(const Simulation& sim) {
-  NetworkStep out;
   const NetworkFrequency f = networkFrequencyBound(sim);
+  NetworkStep out;
   out.omegaMax = f.omegaMax;
   out.particle = f.particle;
-  // The largest damping ratio of a contact mode: normal γn m_ij/(2 √(k_n m_ij)); with friction
-  // the tangential dashpot γt m_ij on k_t; rolling: η_r itself.
-  const Particles& p = sim.particles();
-  const Material& material = sim.config().material;
-  sim.forEachContact([&](const ContactView& c) {
-    const std::size_t i = c.particle;
-    const double mi = p.mass[i];
-    double reduced = p.radius[i], mass = mi;
-    if (!c.isWall()) {
-      const std::size_t j = c.otherParticle();
-      reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-      mass = mi * p.mass[j] / (mi + p.mass[j]);
-    }
-    const ContactStiffness k = contactStiffness(material, reduced, c.overlap);
-    if (k.normal > 0.0) {
-      out.zeta = std::max(out.zeta, 0.5 * material.normalDamping * std::sqrt(mass / k.normal));
-    }
-    if (k.tangential > 0.0) {
-      out.zeta =
-          std::max(out.zeta, 0.5 * material.tangentialDamping * std::sqrt(mass / k.tangential));
-    }
-    if (k.rolling > 0.0) out.zeta = std::max(out.zeta, material.rollingDamping);
-  });
+  out.zeta = f.dampingRatio;
   out.dt = out.omegaMax > 0.0 ? stableOmegaDt(sim.config().integrator, out.zeta) / out.omegaMax
                               : std::numeric_limits<double>::infinity();
   return out;

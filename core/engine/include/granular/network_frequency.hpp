@@ -43,6 +43,9 @@ struct NetworkFrequency {
   double omegaMax = 0;
   std::size_t particle = 0;
   std::size_t contacts = 0;
+  /// The largest damping ratio of a contact mode, seen in the same pass: normal
+  /// γn √(m_ij/k_n)/2; with friction the tangential dashpot on k_t likewise; rolling η_r.
+  double dampingRatio = 0;
 };
 NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32);
 

@@ -9,6 +9,11 @@
 
 namespace granular {
 
+/// The spectral radius of one step of `integrator`, as implemented (Gear5::predict/correct,
+/// VelocityVerlet::drift/kick), on x'' = −ω² x − 2ζω x' at ω Δt = w: the step is a linear map
+/// of the state (x, v, a[, x''', x'''', x''''']), built by stepping each unit vector.
+double stepSpectralRadius(Integrator integrator, double w, double zeta);
+
 /// The largest ω Δt at which one step of `integrator`, as implemented, on x'' = −ω² x − 2ζω x'
 /// has spectral radius at most 1 + `growthPerStep` (Gear5 is never exactly stable undamped: its
 /// growth per step is a power of ω Δt; velocity Verlet is, up to ω Δt = 2). Computed from the

@@ -56,6 +56,16 @@ struct NormalElastic {
     c.template energy<NormalElastic>(0)[e] = stored;
   }
 
+  /// dF/dh of the elastic force: k R (Hooke), (3/2) k √(R h) (Hertz) [N/m].
+  template <NormalLaw kLaw>
+  [[gnu::always_inline]] static double stiffness(double coefficient, double radius, double h) {
+    if constexpr (kLaw == NormalLaw::Hooke) {
+      return coefficient * radius;
+    } else {
+      return 1.5 * coefficient * std::sqrt(radius * h);
+    }
+  }
+
   /// Elastic force k R^(2-α) h^α and the energy it stores (k: the normal coefficient).
   template <NormalLaw kLaw>
   [[gnu::always_inline]] static void force(double coefficient, double radius, double h,

@@ -106,11 +106,9 @@ struct RollingResistance {
     const double wx = c.wix[e] - c.wjx[e], wy = c.wiy[e] - c.wjy[e], wz = c.wiz[e] - c.wjz[e];
     const double wn = wx * nx + wy * ny + wz * nz;
     const double ux = wx - wn * nx, uy = wy - wn * ny, uz = wz - wn * nz;  // ω_r
-    double normalStiffness = k.normalCoefficient * radius;                 // dF_n^e/dh, Hooke
-    if constexpr (kLaw == NormalLaw::Hertz) {
-      normalStiffness = 1.5 * k.normalCoefficient * std::sqrt(radius * lane.h);
-    }
-    const double kr = r.stiffness * normalStiffness * radius * radius;
+    const double kr = r.stiffness *
+                      NormalElastic::stiffness<kLaw>(k.normalCoefficient, radius, lane.h) * radius *
+                      radius;
     const double inertiaI = 1.4 * c.mi[e] * c.ri[e] * c.ri[e];  // I + m R² = (7/5) m R²
     const double inertiaJ = 1.4 * c.mj[e] * c.rj[e] * c.rj[e];  // a wall's: infinite
     const double inertia = 1.0 / (1.0 / inertiaI + 1.0 / inertiaJ);
