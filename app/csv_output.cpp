@@ -35,7 +35,7 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
                                    std::vector<std::string> walls, const Material& material)
     : file_(path), walls_(std::move(walls)) {
   std::ostringstream header;
-  header << "stage,time_s,step,kinetic_translational_J,kinetic_rotational_J";
+  header << "stage,time_s,step,dt_s,kinetic_translational_J,kinetic_rotational_J";
   for (const EnergyAccountSpec& column : energyColumns(material))
     header << ',' << column.account.column;
   header << ",gravity_work_J,wall_work_J,energy_total_J,contacts_particle_overlapping,"
@@ -57,7 +57,9 @@ void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
   const EnergyBalance e = sim.energy();
   const StepCounters& c = sim.counters();
   std::ostringstream row;
-  row << csvField(stage) << ',' << csvNumber(sim.time()) << ',' << sim.stepCount();
+  // dt_s: the step the run takes from here (fixed, or chosen from the contact network).
+  row << csvField(stage) << ',' << csvNumber(sim.time()) << ',' << sim.stepCount() << ','
+      << csvNumber(sim.config().timeStep);
   row << ',' << csvNumber(e.kineticTranslational) << ',' << csvNumber(e.kineticRotational);
   for (const EnergyAccount& account : e.contact) row << ',' << csvNumber(account.value);
   for (double value : {e.gravityWork, e.wallWork, e.total()}) row << ',' << csvNumber(value);

@@ -95,7 +95,10 @@ void writeParaviewSnapshot(const std::filesystem::path& outDir, const Scene& sce
           j < k ? stageStart + progress.finished[j].result.steps : sim.stepCount();
       for (std::uint64_t step :
            paraviewSteps(outDir, scene.stages[j].name, kind, stageStart, stageEnd)) {
-        entries.push_back({double(step) * scene.simulation.timeStep,
+        // An automatic step: the collection's "time" is the step number (the steps differ).
+        entries.push_back({scene.simulation.step.automatic
+                               ? double(step)
+                               : double(step) * scene.simulation.timeStep,
                            paraviewPath(scene.stages[j].name, step, kind)});
       }
       stageStart = stageEnd;
@@ -228,6 +231,7 @@ int runScene(const RunOptions& options) {
                    progress.energyReference.value_or(sim.energy().total()));
   progress.energyReference = checks.referenceTotal();
   std::vector<std::string> warnings;
+  bool unstableReported = false;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
   // stage's end. The last one written is the last good state if the run breaks.
@@ -248,6 +252,19 @@ int runScene(const RunOptions& options) {
       StageObserver observer;
       observer.onSample = [&](const Simulation& s) {
         series->write(stage.name, s);
+        if (s.counters().unstableChecks > 0 && !unstableReported) {
+          // on_unstable = "warn": said once; the summary gives the count.
+          unstableReported = true;
+          const StepCheck& c = s.stepCheck();
+          const std::string warning =
+              "the time step " + csvNumber(s.config().timeStep) +
+              " s is above the step the contact network allows (" + format("%.4g", c.networkStep) +
+              " s at t = " + format("%.6g", c.time) + " s, particle " + std::to_string(c.particle) +
+              "); the run goes on (on_unstable = \"warn\") and may gain energy";
+          reporter.finish();
+          std::cerr << "warning: " << warning << "\n";
+          warnings.push_back(warning);
+        }
         for (const std::string& warning : checks.atSample(s, stage.name)) {
           reporter.finish();
           std::cerr << "warning: " << warning << "\n";
@@ -266,12 +283,14 @@ int runScene(const RunOptions& options) {
       // Checkpoints are offered every 100 steps; an injected fault needs every step.
       observer.checkpointSteps = fault ? 1 : 100;
       observer.onCheckpoint = [&](const Simulation& s, const StageProgress& p) {
-        if (p.steps % 100 == 0 && options.checkpointEvery > 0 &&
+        // An automatic step's stage offers a checkpoint only every 100 steps or more.
+        const bool offered = s.config().step.automatic || p.steps % 100 == 0;
+        if (offered && options.checkpointEvery > 0 &&
             secondsSince(lastWritten) >= options.checkpointEvery) {
           progress.inStage = p;
           save(s);
         }
-        if (stopSignal() != 0 && p.steps % 100 == 0) {
+        if (stopSignal() != 0 && offered) {
           progress.inStage = p;
           save(s);
           stopAndSayHowToResume(options, outDir, s);
@@ -335,6 +354,16 @@ int runScene(const RunOptions& options) {
             << format("%.2f", r.wallSeconds) << " s wall-clock\n";
   }
   for (const std::string& warning : warnings) summary << "warning: " << warning << "\n";
+  const StepCounters& counted = sim.counters();
+  summary << "time step: " << csvNumber(counted.smallestStep) << " to "
+          << csvNumber(counted.largestStep) << " s"
+          << (sim.config().step.automatic ? " (auto)" : "") << "; " << counted.stepChecks
+          << " checks against the contact network";
+  if (counted.unstableChecks > 0) {
+    summary << ", " << counted.unstableChecks << " found the step above it (up to "
+            << format("%.3g", counted.worstStepRatio) << " x)";
+  }
+  summary << "\n";
   summary << "final kinetic energy: " << format("%.6e", sim.kineticEnergy()) << " J\n"
           << "state hash: " << hexHash(sim.stateHash()) << "\n"
           << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"

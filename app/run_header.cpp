@@ -56,8 +56,27 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
       << format("%.6g", config.material.density) << " kg/m³"
       << (scene.totalMass ? ", scaled to the scene's total_mass" : "") << ")\n";
   // The step in full (it reads back to the same double): a rounded one hides a typo.
-  out << "integrator  " << (config.integrator == Integrator::Gear5 ? "gear5" : "verlet")
-      << ", dt = " << csvNumber(dt) << " s\n";
+  const char* integrator = config.integrator == Integrator::Gear5 ? "gear5" : "verlet";
+  const StepCheck& check = sim.stepCheck();
+  if (config.step.automatic) {
+    out << "integrator  " << integrator << ", dt = auto: " << format("%.4g", config.step.safety)
+        << " x the contact network's stable step, at most duration/"
+        << format("%g", config.step.contactResolution) << " = "
+        << format("%.4g", check.accuracyStep) << " s; re-chosen at each neighbour-list rebuild "
+        << "and every " << config.step.recheckSteps << " steps; first dt = " << csvNumber(dt)
+        << " s ("
+        << (check.contacts > 0 ? "network " + format("%.4g", check.networkStep) + " s from " +
+                                     std::to_string(check.contacts) + " contacts"
+                               : std::string("no contact yet: the accuracy floor"))
+        << ")\n";
+  } else {
+    out << "integrator  " << integrator << ", dt = " << csvNumber(dt) << " s"
+        << (check.contacts > 0
+                ? ", the contact network allows " + format("%.4g", check.networkStep) + " s now"
+                : std::string(""))
+        << "; on_unstable = " << (config.step.onUnstable == OnUnstable::Stop ? "stop" : "warn")
+        << "\n";
+  }
   out << "contact     " << contactKinds(scene, sim) << " (R = " << format("%.4g", contact.radius)
       << " m), duration " << format("%.4g", contact.duration) << " s; dt = duration/"
       << format("%.1f", contact.duration / dt) << "\n";

@@ -61,6 +61,7 @@ std::string encodeRunProgress(const RunProgress& p) {
       << "below_since " << (p.inStage.belowSince ? hex(*p.inStage.belowSince) : "none") << "\n"
       << "series_bytes " << p.seriesBytes << "\n";
   if (p.energyReference) out << "energy_reference " << hex(*p.energyReference) << "\n";
+  if (p.inStage.time) out << "stage_time " << hex(*p.inStage.time) << "\n";
   for (const FinishedStage& f : p.finished) {
     out << "finished " << (f.result.reason == StageEndReason::KineticEnergy ? "kinetic" : "time")
         << " " << hex(f.result.duration) << " " << f.result.steps << " " << hex(f.wallSeconds)
@@ -93,6 +94,10 @@ RunProgress decodeRunProgress(const std::string& text, const std::string& file) 
     const std::string key = f.word();
     if (key == "energy_reference" && !p.energyReference && p.finished.empty()) {
       p.energyReference = f.number();
+      continue;
+    }
+    if (key == "stage_time" && !p.inStage.time && p.finished.empty()) {
+      p.inStage.time = f.number();
       continue;
     }
     if (key != "finished") f.fail();

@@ -43,6 +43,9 @@ SimulationConfig conservative(NormalLaw law, Integrator integrator) {
   cfg.material.friction = 0;
   cfg.integrator = integrator;
   cfg.impactSpeed = 3.0;  // a 0.6 m fall with 0.3 m/s initial speed, head-on
+  // Undamped Gear at t_c/50 is at the edge of its growth budget on the network's bound (which
+  // is above the exact ω_max): these tests measure the truncation error, so the run goes on.
+  cfg.step.onUnstable = OnUnstable::Warn;
   return cfg;
 }
 

@@ -19,6 +19,7 @@
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/impact_probe.hpp"
+#include "granular/network_step.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
 #include "granular/stress.hpp"
@@ -90,9 +91,11 @@ TEST(HardCase, ImpactAtTheStableStepLimitBouncesBackWithHertzOverlap) {
   // Undamped Hertz, F = K h^{3/2}: energy conservation ½ m v² = (2/5) K h_max^{5/2} gives the
   // peak overlap h_max = (5 m v² / (4 K))^{2/5} and restitution exactly 1. The speed is chosen
   // so that h_max = 8 % of the radius (the largest overlap for which the small-overlap contact
-  // law still means something), v = sqrt(4 K h_max^{5/2} / (5 m)). The step is 0.99 of each
-  // integrator's limit (Gear t_c/50, Verlet t_c/10) for the stiffest contact at that speed.
-  // Tolerances: at Verlet's t_c/10 the largest overlap is sampled up to Δt/2 = t_c/20 from the
+  // law still means something), v = sqrt(4 K h_max^{5/2} / (5 m)). The step is chosen by the
+  // engine (time_step = "auto"): the network's step, which counts the coming contact at the
+  // overlap the impact will reach, or the accuracy floor t_c/10, whichever is shorter (Verlet:
+  // the floor; Gear: its interval at the peak stiffness, ≈ t_c/40).
+  // Tolerances: at t_c/10 the largest overlap is sampled up to Δt/2 = t_c/20 from the
   // true peak, which on a half-sine costs 1 - cos(π/20) = 1.2 %, and the scheme's own O(Δt²)
   // error over one contact is of the same size: 3 % for both quantities.
   Material mat;
@@ -114,11 +117,12 @@ TEST(HardCase, ImpactAtTheStableStepLimitBouncesBackWithHertzOverlap) {
       cfg.gravity = Vec3::Zero();
       cfg.integrator = c.integrator;
       cfg.impactSpeed = v;
-      cfg.timeStep = 1e-7;
+      cfg.step.automatic = true;
       cfg.threads = 1;
       Simulation sim(std::move(p), {floorWall()}, cfg);
-      const double dt = 0.99 * maxStableStep(sim.contactScale(), c.integrator);
-      sim.setTimeStep(dt);
+      const double dt = sim.config().timeStep;
+      EXPECT_GT(dt, 0.5 * maxStableStep(sim.contactScale(), c.integrator)) << c.name;
+      EXPECT_LE(dt, sim.contactScale().duration / 10) << c.name;
       const auto got = measureImpact(
           sim,
           [](const Simulation& s) {
@@ -140,9 +144,11 @@ TEST(HardCase, ImpactAtTheStableStepLimitBouncesBackWithHertzOverlap) {
       spec.radius = r;
       spec.approachSpeed = speedFor(mat.normalCoefficient() * std::sqrt(0.5 * r), 0.5 * m);
       spec.timeStep = 1e-7;
-      const Simulation probe = makePairImpact(spec);
-      spec.timeStep = 0.99 * maxStableStep(probe.contactScale(), c.integrator);
       Simulation sim = makePairImpact(spec);
+      StepControl automatic;
+      automatic.automatic = true;
+      sim.setStepControl(automatic);
+      EXPECT_GT(sim.config().timeStep, 0.5 * maxStableStep(sim.contactScale(), c.integrator));
       const ImpactMeasurement got = measurePairImpact(sim, spec.approachSpeed, 1.0);
       const Particles& p = sim.particles();
       ASSERT_TRUE(got.separated) << c.name;
@@ -195,16 +201,23 @@ TEST(HardCase, StiffMaterialRefusesTheSoftStepAndImpactsAtHalfItsLimit) {
     const double softStep =
         0.5 * maxStableStep(stiffestContact(soft, r, cfg.impactSpeed), c.integrator);
     EXPECT_NO_THROW(sphereOnFloor(soft, softStep)) << c.name;
-    // ... is refused for the stiff one, naming its limit.
+    // ... is refused for the stiff one, naming the step its coming contact allows. For one
+    // contact the network's bound is exact: ω = √(k/m), damping rate γn, so the step is the
+    // integrator's interval at ζ = γn/(2ω), over ω.
     const double limit = fractionOf(c.integrator) * tStiff;
     const ContactScale stiffScale = sphereOnFloor(stiff, 1e-9).contactScale();
     EXPECT_NEAR(maxStableStep(stiffScale, c.integrator), limit, 1e-12 * limit) << c.name;
+    const double omega = std::sqrt(stiff.normalCoefficient() * r / m);
+    const double zeta = stiff.normalDamping / (2 * omega);
+    const double networkLimit = stableOmegaDtOver(c.integrator, zeta, zeta) / omega;
+    EXPECT_LT(networkLimit, softStep) << c.name;
     try {
       sphereOnFloor(stiff, softStep);
       ADD_FAILURE() << c.name << ": the soft material's step was accepted for the stiff one";
     } catch (const ConfigError& e) {
       std::ostringstream shown;
-      shown << "above the stable limit " << maxStableStep(stiffScale, c.integrator) << " s";
+      shown.precision(4);
+      shown << "above the step the contact network allows, " << networkLimit << " s";
       EXPECT_NE(std::string(e.what()).find(shown.str()), std::string::npos) << e.what();
     }
     // At half the new limit an impact is clean: the energy balance holds (the only error is the
@@ -422,7 +435,7 @@ TEST(HardCase, SettledBedHoldsStillForTenSeconds) {
   cfg.material.tangentialDamping = 100.0;
   cfg.integrator = Integrator::VelocityVerlet;
   cfg.threads = 1;
-  cfg.timeStep = stiffestContact(cfg.material, 0.03, 1.0).duration / 20;
+  cfg.step.automatic = true;  // this damping: the network allows less than t_c/20
   Simulation sim = stackedBed(cfg);
   const Particles& p = sim.particles();
   double weight = 0;

@@ -191,8 +191,8 @@ TEST(RunRestart, ACommentEditedInTheSceneAfterAKillResumesBitForBit) {
   const std::string text = slurp(scene);
   std::ofstream(scene, std::ios::trunc)
       << "# edited while the run was down\n\n"
-      << text.substr(0, text.find("time_step = 1.5e-4")) << "time_step = 0.00015  # s\n"
-      << text.substr(text.find('\n', text.find("time_step = 1.5e-4")) + 1);
+      << text.substr(0, text.find("time_step = 1.2e-4")) << "time_step = 0.00012  # s\n"
+      << text.substr(text.find('\n', text.find("time_step = 1.2e-4")) + 1);
   Child resumed(out, {"--checkpoint-every", "0", "--resume"}, {}, scene);
   ASSERT_TRUE(resumed.started());
   ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
@@ -216,7 +216,7 @@ TEST(RunRestart, AParticleFileEditedAfterACheckpointIsRefusedNamingIt) {
   };
   std::ofstream(dir / "particles.csv") << csv(64, 0.0);
   std::ofstream(dir / "scene.toml") << "[material]\nfriction = 0.3\nnormal_damping = 200.0\n"
-                                       "[simulation]\ntime_step = 1.5e-4\n"
+                                       "[simulation]\ntime_step = 1.2e-4\n"
                                        "[box]\nmin = [0, 0, 0]\nmax = [0.6, 0.6, 2]\n"
                                        "[[particles]]\ntype = \"csv\"\nfile = \"particles.csv\"\n"
                                        "[[stages]]\nmax_time = 0.03\n";

@@ -203,6 +203,9 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   for (const auto& [key, value] : materialValues(Material{})) material += 8 + key.size() + 8;
   material += 8;  // and after them the energy accounts by column, also new in 5
   for (const EnergyAccountSpec& a : energyAccounts()) material += 8 + a.account.column.size() + 24;
+  // and after them the step control, new in 6: a flag, safety, resolution, check interval,
+  // on_unstable, the target step and the steps since the last check.
+  material += 1 + 8 + 8 + 8 + sizeof(OnUnstable) + 8 + 8;
   bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);

@@ -12,6 +12,7 @@
 
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
+#include "granular/network_step.hpp"
 #include "granular/scene.hpp"
 #include "temp_folder.hpp"
 
@@ -238,9 +239,13 @@ TEST_F(SceneLoader, HertzStepCheckUsesTheHeadOnApproachOfTwoSpheres) {
   // Two equal undamped Hertz spheres at ±0.5 m/s along x meet at 1 m/s. Their contact lasts
   // t_c = 3.2181 (m*/K)^(2/5) v^(-1/5) at v = 1 m/s, 2^(-1/5) = 0.87 times the duration at the
   // 0.5 m/s of either sphere: the step check must take the duration of the contact that happens.
-  // Measured on the impact itself (at t_c/1300), the duration is the engine's t_c; and a step
-  // between 1/50 of the two durations is refused (it was accepted while the check took 0.5 m/s).
-  write("pair.csv", "x,y,z,r,vx,vy,vz\n0.465,0.5,0.5,0.03,0.5,0,0\n0.535,0.5,0.5,0.03,-0.5,0,0\n");
+  // Measured on the impact itself (at t_c/1300), the duration is the engine's t_c. The scene
+  // starts with the pair apart and closing: the engine's network counts the coming contact at
+  // the peak overlap of a head-on impact at 1 m/s, and a step above that network's refuses to
+  // build, naming the key.
+  // 5 mm apart: within the neighbour list's skin (0.3 R), so the network sees them coming.
+  write("pair.csv",
+        "x,y,z,r,vx,vy,vz\n0.4675,0.5,0.5,0.03,0.5,0,0\n0.5325,0.5,0.5,0.03,-0.5,0,0\n");
   const std::string scene = R"([material]
 normal_law = "hertz"
 normal_damping = 0.0
@@ -275,12 +280,28 @@ max_time = 0.2
     if (!touching && touch >= 0) apart = sim.time();
   }
   EXPECT_NEAR(apart - touch, duration, 2e-5);  // each end found within a step
-  const double between = 0.5 * (duration + slower) / 50;
-  const std::string message =
-      errorOf(replaced(scene, "time_step = 1e-5", "time_step = " + std::to_string(between)));
-  std::ostringstream limit;
-  limit << "stable limit " << duration / 50 << " s of gear5";
-  EXPECT_NE(message.find(limit.str()), std::string::npos) << message;
+  const Simulation fresh = buildSimulation(s);
+  const NetworkStep allowed = networkStableStep(fresh, 1.0);  // 1 s ahead: the pair counts
+  const double mass = 0.5 * p.mass[0], reduced = 0.015;
+  const double kappa = s.simulation.material.normalCoefficient();
+  const double peak = std::pow(5.0 * mass * 1.0 / (4.0 * kappa * std::sqrt(reduced)), 0.4);
+  const double k = 1.5 * kappa * std::sqrt(reduced * peak);  // dF/dh at the peak
+  EXPECT_NEAR(allowed.omegaMax, std::sqrt(k / mass), 1e-9 * allowed.omegaMax);
+  const Scene above =
+      loadScene(write("above.toml", replaced(scene, "time_step = 1e-5",
+                                             "time_step = " + std::to_string(1.05 * allowed.dt))));
+  try {
+    buildSimulation(above);
+    ADD_FAILURE() << "a step above the network's was accepted";
+  } catch (const ConfigError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("simulation.time_step: the time step"), std::string::npos) << message;
+    EXPECT_NE(message.find("above the step the contact network allows"), std::string::npos)
+        << message;
+  }
+  EXPECT_NO_THROW(buildSimulation(loadScene(write(
+      "below.toml",
+      replaced(scene, "time_step = 1e-5", "time_step = " + std::to_string(0.95 * allowed.dt))))));
 }
 
 TEST_F(SceneLoader, MessageNamesFileLineKeyValueAndRange) {

@@ -20,11 +20,6 @@
 
 namespace granular {
 
-struct SimulationAccess {
-  static const SimulationState& state(const Simulation& sim) { return *sim.state_; }
-  static Simulation make(std::unique_ptr<SimulationState> s) { return Simulation(std::move(s)); }
-};
-
 namespace {
 
 constexpr char kMagic[8] = {'G', 'R', 'A', 'N', 'C', 'K', 'P', 'T'};
@@ -408,6 +403,11 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
                         state.energy.account[a.slot], state.energy.initialStored[a.slot]});
   }
   w(accounts);
+  StepControl step = state.config.step;  // version 6
+  double targetStep = state.targetStep;
+  std::uint64_t sinceCheck = state.stepsSinceCheck;
+  w(step.automatic), w(step.safety), w(step.contactResolution), w(step.recheckSteps);
+  w(step.onUnstable), w(targetStep), w(sinceCheck);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -528,6 +528,17 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
       state->energy.account[slot] = a.sinceStart;
       state->energy.initialStored[slot] = a.initial;
     }
+  }
+  if (version >= 6) {
+    StepControl& step = state->config.step;
+    r(step.automatic), r(step.safety), r(step.contactResolution), r(step.recheckSteps);
+    r(step.onUnstable), r(state->targetStep), r(state->stepsSinceCheck);
+    const bool sane = std::isfinite(step.safety) && step.safety > 0 && step.safety <= 1 &&
+                      std::isfinite(step.contactResolution) && step.contactResolution >= 1 &&
+                      step.recheckSteps >= 1 && std::isfinite(state->targetStep) &&
+                      state->targetStep >= 0 &&
+                      (step.onUnstable == OnUnstable::Stop || step.onUnstable == OnUnstable::Warn);
+    if (!sane) throw CheckpointError(name + ": corrupted checkpoint: the step control is invalid");
   }
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);

@@ -1,11 +1,14 @@
 /// The contact network's frequency bound (granular/network_frequency.hpp).
 #include "granular/network_frequency.hpp"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
+
+#include "force_pass.hpp"
+#include "network_bound.hpp"
+#include "simulation_state.hpp"
 
 namespace granular {
 
@@ -41,88 +44,186 @@ double contactGain(const ContactStiffness& k, const ContactBody& body, bool rota
   const double normal = k.normal / body.mass;
   if (!rotations) return std::sqrt(normal);
   const double kt = k.tangential, kr = k.rolling, m = body.mass, inertia = body.inertia;
-  Eigen::Matrix2d t;
-  t << kt * (1.0 / m + body.arm * body.arm / inertia), std::sqrt(kt * kr) * body.arm / inertia,
-      std::sqrt(kt * kr) * body.arm / inertia, kr / inertia;
-  const double tangent = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(t).eigenvalues()(1);
+  // The 2×2 [[a, b], [b, c]]'s larger eigenvalue in closed form (at every check, per contact).
+  const double a = kt * (1.0 / m + body.arm * body.arm / inertia);
+  const double b = std::sqrt(kt * kr) * body.arm / inertia, c = kr / inertia;
+  const double half = 0.5 * (a - c);
+  const double tangent = 0.5 * (a + c) + std::sqrt(half * half + b * b);
   return std::sqrt(std::max(normal, tangent));
 }
 
-NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps) {
-  const Particles& p = sim.particles();
-  const Material& material = sim.config().material;
-  const bool rotations = sim.frictional();
-  // The gain matrix B: B_ii = Σ_c gain_i², B_ij = gain_i gain_j per contact; it dominates the
-  // block norms of A entrywise, so λ_max(A) ≤ ρ(B) ≤ max_i (B x)_i / x_i for any positive x
-  // (Collatz–Wielandt). x = 1 is Gershgorin's bound; each sweep x ← B x tightens it.
+namespace {
+
+/// A matrix B with B_ii = diagonal[i] and, per link, B_ij = B_ji = gi gj: it dominates the
+/// block norms of a mass-weighted contact matrix entrywise (stiffness or damping), so the
+/// matrix's largest eigenvalue is at most ρ(B) ≤ max_i (B x)_i / x_i for any positive x
+/// (Collatz–Wielandt). x = 1 is Gershgorin's bound; each sweep x ← B x tightens it.
+struct GainMatrix {
   struct Link {
     std::uint32_t i, j;
     double gi, gj;
   };
+  std::vector<double> diagonal;
   std::vector<Link> links;
-  std::vector<double> diagonal(p.size(), 0.0);
-  auto body = [&](std::size_t i, double h) {
-    return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
-  };
-  NetworkFrequency out;
-  auto damping = [&](const ContactStiffness& k, double mass) {
-    double zeta = 0.5 * material.normalDamping * std::sqrt(mass / k.normal);
-    if (k.tangential > 0.0) {
-      zeta = std::max(zeta, 0.5 * material.tangentialDamping * std::sqrt(mass / k.tangential));
-    }
-    if (k.rolling > 0.0) zeta = std::max(zeta, material.rollingDamping);
-    out.dampingRatio = std::max(out.dampingRatio, zeta);
-  };
-  sim.forEachContact([&](const ContactView& c) {
-    const std::size_t i = c.particle;
-    if (c.isWall()) {
-      const ContactStiffness k = contactStiffness(material, p.radius[i], c.overlap);
-      damping(k, p.mass[i]);
-      const double gain = contactGain(k, body(i, c.overlap), rotations);
-      diagonal[i] += gain * gain;
-      ++out.contacts;
-      return;
-    }
-    const std::size_t j = c.otherParticle();
-    if (j < i) return;  // each pair once (the view sees it from both sides)
-    const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-    const ContactStiffness k = contactStiffness(material, reduced, c.overlap);
-    damping(k, p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]));
-    const double gi = contactGain(k, body(i, c.overlap), rotations);
-    const double gj = contactGain(k, body(j, c.overlap), rotations);
+
+  explicit GainMatrix(std::size_t n) : diagonal(n, 0.0) {}
+  void wall(std::size_t i, double g) { diagonal[i] += g * g; }
+  void pair(std::size_t i, std::size_t j, double gi, double gj) {
     diagonal[i] += gi * gi;
     diagonal[j] += gj * gj;
     links.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), gi, gj});
-    ++out.contacts;
-  });
-  auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
-    for (std::size_t i = 0; i < x.size(); ++i) y[i] = diagonal[i] * x[i];
-    for (const Link& l : links) {
-      y[l.i] += l.gi * l.gj * x[l.j];
-      y[l.j] += l.gi * l.gj * x[l.i];
-    }
-  };
-  // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
-  std::vector<double> x(p.size(), 1.0), y(p.size(), 0.0);
-  for (int sweep = 0;; ++sweep) {
-    multiply(x, y);
-    double largest = 0.0;
-    std::size_t at = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      const double ratio = y[i] / x[i];
-      if (ratio > largest) largest = ratio, at = i;
-    }
-    if (sweep == 0 || largest < out.omegaMax * out.omegaMax) {
-      out.omegaMax = std::sqrt(largest);
-      out.particle = at;
-    }
-    if (sweep == sweeps) break;
-    double scale = 0.0;
-    for (double v : y) scale = std::max(scale, v);
-    if (!(scale > 0.0)) break;
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::max(y[i] / scale, 1e-300);
   }
+
+  /// The bound on λ_max after `sweeps` sweeps, and the row that sets it.
+  std::pair<double, std::size_t> bound(int sweeps) const {
+    const std::size_t n = diagonal.size();
+    auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
+      for (std::size_t i = 0; i < n; ++i) y[i] = diagonal[i] * x[i];
+      for (const Link& l : links) {
+        y[l.i] += l.gi * l.gj * x[l.j];
+        y[l.j] += l.gi * l.gj * x[l.i];
+      }
+    };
+    // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
+    std::vector<double> x(n, 1.0), y(n, 0.0);
+    double best = 0.0;
+    std::size_t bestRow = 0;
+    for (int sweep = 0;; ++sweep) {
+      multiply(x, y);
+      double largest = 0.0;
+      std::size_t at = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double ratio = y[i] / x[i];
+        if (ratio > largest) largest = ratio, at = i;
+      }
+      if (sweep == 0 || largest < best) best = largest, bestRow = at;
+      if (sweep == sweeps) break;
+      double scale = 0.0;
+      for (double v : y) scale = std::max(scale, v);
+      if (!(scale > 0.0)) break;
+      for (std::size_t i = 0; i < n; ++i) x[i] = std::max(y[i] / scale, 1e-300);
+    }
+    return {best, bestRow};
+  }
+};
+
+}  // namespace
+
+NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead) {
+  const Particles& p = s.particles;
+  const Material& material = s.config.material;
+  const bool rotations = s.frictional;
+  const bool hertz = material.normalLaw == NormalLaw::Hertz;
+  const double kappa = material.normalCoefficient();
+  const bool rolling = RollingResistance::active(material);
+  GainMatrix stiffness(p.size()), damping(p.size());
+  NetworkFrequency out;
+
+  auto body = [&](std::size_t i, double h) {
+    return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
+  };
+  // The overlap an impact at closing speed u adds under Hertz's law (Hooke's k_n does not
+  // depend on it): ½ m u² = (2/5) κ √R h^(5/2).
+  auto impactOverlap = [&](double mass, double reduced, double u) {
+    if (!hertz || !(u > 0.0)) return 0.0;
+    return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
+  };
+  // One contact between i and j (j = i: a wall), at overlap h.
+  auto add = [&](std::size_t i, std::size_t j, double reduced, double mass, double h) {
+    const bool wall = j == i;
+    const ContactStiffness k = contactStiffness(material, reduced, h);
+    ContactStiffness c;  // the dashpots' coefficients, as the terms apply them
+    c.normal = material.normalDamping * mass;
+    if (k.tangential > 0.0) c.tangential = material.tangentialDamping * mass;
+    if (rolling) {
+      const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
+      const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
+      const double inertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
+      c.rolling = 2.0 * material.rollingDamping * std::sqrt(inertia * k.rolling);
+    }
+    auto ratio = [&](double coefficient, double spring) {
+      return 0.5 * coefficient / std::sqrt(spring * mass);
+    };
+    double smallest = k.normal > 0.0 ? ratio(c.normal, k.normal) : out.smallestDampingRatio;
+    if (k.tangential > 0.0) smallest = std::min(smallest, ratio(c.tangential, k.tangential));
+    if (rolling) smallest = std::min(smallest, material.rollingDamping);
+    out.smallestDampingRatio = out.contacts + out.approaching == 0
+                                   ? smallest
+                                   : std::min(out.smallestDampingRatio, smallest);
+    if (wall) {
+      stiffness.wall(i, contactGain(k, body(i, h), rotations));
+      damping.wall(i, contactGain(c, body(i, h), rotations));
+      return;
+    }
+    stiffness.pair(i, j, contactGain(k, body(i, h), rotations),
+                   contactGain(k, body(j, h), rotations));
+    damping.pair(i, j, contactGain(c, body(i, h), rotations),
+                 contactGain(c, body(j, h), rotations));
+  };
+
+  // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
+  visitContacts(
+      s,
+      [&](const ContactView& c) {
+        const std::size_t i = c.particle;
+        if (c.isWall()) {
+          const double u = (p.velocity[i] - s.walls[c.wall()].velocity).dot(c.normal);
+          add(i, i, p.radius[i], p.mass[i], c.overlap + impactOverlap(p.mass[i], p.radius[i], u));
+        } else {
+          const std::size_t j = c.otherParticle();
+          if (j < i) return;
+          const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+          const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+          const double u = (p.velocity[i] - p.velocity[j]).dot(c.normal);
+          add(i, j, reduced, mass, c.overlap + impactOverlap(mass, reduced, u));
+        }
+        ++out.contacts;
+      },
+      nullptr);
+
+  // Candidates about to touch: the neighbour list holds every pair that can touch before it is
+  // rebuilt.
+  const NeighbourList& list = s.neighbours;
+  if (lookahead > 0.0 && list.valid && list.rowStart.size() == p.size() + 1) {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+        const std::size_t j = list.second[k];
+        const Vec3 d = p.position[j] - p.position[i];
+        const double distance = d.norm();
+        const double gap = distance - p.radius[i] - p.radius[j];
+        if (!(gap > 0.0)) continue;  // touching: counted above
+        const double u = (p.velocity[i] - p.velocity[j]).dot(d) / distance;
+        if (!(u > 0.0) || gap > u * lookahead) continue;
+        const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+        const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        add(i, j, reduced, mass, impactOverlap(mass, reduced, u));
+        ++out.approaching;
+      }
+    }
+    for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
+      const Wall& wall = s.walls[w];
+      for (std::uint32_t i : list.wallParticles[w]) {
+        if (i >= p.size()) continue;
+        const double gap = (p.position[i] - wall.point).dot(wall.normal) - p.radius[i];
+        if (!(gap > 0.0)) continue;
+        const double u = -(p.velocity[i] - wall.velocity).dot(wall.normal);
+        if (!(u > 0.0) || gap > u * lookahead) continue;
+        add(i, i, p.radius[i], p.mass[i], impactOverlap(p.mass[i], p.radius[i], u));
+        ++out.approaching;
+      }
+    }
+  }
+
+  const auto [omega2, row] = stiffness.bound(sweeps);
+  out.omegaMax = std::sqrt(omega2);
+  out.particle = row;
+  out.dampingRate = damping.bound(sweeps).first;
+  out.dampingRatio = out.omegaMax > 0.0 ? out.dampingRate / (2.0 * out.omegaMax) : 0.0;
   return out;
+}
+
+NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps, double lookahead) {
+  return networkFrequencyBound(SimulationAccess::state(sim), sweeps, lookahead);
 }
 
 }  // namespace granular

@@ -5,10 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <vector>
 
 #include "granular/network_frequency.hpp"
 #include "integrators.hpp"
+#include "network_bound.hpp"
+#include "simulation_state.hpp"
 
 namespace granular {
 
@@ -66,15 +70,43 @@ double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep) {
   return lo;
 }
 
-NetworkStep networkStableStep(const Simulation& sim) {
-  const NetworkFrequency f = networkFrequencyBound(sim);
+double stableOmegaDtOver(Integrator integrator, double zetaLow, double zetaHigh) {
+  // The grid ζ_k = (k/64)²: fine near 0, where Gear's interval changes fastest with ζ.
+  constexpr double kGrid = 64.0;
+  const double low = std::floor(std::sqrt(std::max(zetaLow, 0.0)) * kGrid);
+  const double high = std::ceil(std::sqrt(std::max(zetaHigh, zetaLow)) * kGrid);
+  if (!(high < 1e4)) return 0.0;  // no finite ratio: nothing is stable
+  static std::mutex mutex;
+  static std::map<std::pair<int, long>, double> table;
+  std::lock_guard<std::mutex> lock(mutex);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (long k = static_cast<long>(low); k <= static_cast<long>(high); ++k) {
+    const std::pair<int, long> key{static_cast<int>(integrator), k};
+    auto it = table.find(key);
+    if (it == table.end()) {
+      const double zeta = (k / kGrid) * (k / kGrid);
+      it = table.emplace(key, stableOmegaDt(integrator, zeta)).first;
+    }
+    smallest = std::min(smallest, it->second);
+  }
+  return smallest;
+}
+
+NetworkStep networkStableStep(const SimulationState& s, double lookahead) {
+  const NetworkFrequency f = networkFrequencyBound(s, 32, lookahead);
   NetworkStep out;
   out.omegaMax = f.omegaMax;
   out.particle = f.particle;
   out.zeta = f.dampingRatio;
-  out.dt = out.omegaMax > 0.0 ? stableOmegaDt(sim.config().integrator, out.zeta) / out.omegaMax
-                              : std::numeric_limits<double>::infinity();
+  out.smallestZeta = f.smallestDampingRatio;
+  out.dt = out.omegaMax > 0.0
+               ? stableOmegaDtOver(s.config.integrator, out.smallestZeta, out.zeta) / out.omegaMax
+               : std::numeric_limits<double>::infinity();
   return out;
+}
+
+NetworkStep networkStableStep(const Simulation& sim, double lookahead) {
+  return networkStableStep(SimulationAccess::state(sim), lookahead);
 }
 
 }  // namespace granular

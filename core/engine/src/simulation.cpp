@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <sstream>
 
 #include "force_pass.hpp"
 #include "granular/error.hpp"
 #include "integrators.hpp"
+#include "network_bound.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
 
@@ -29,6 +31,15 @@ std::string str(double x) {
   return o.str();
 }
 
+void validateStepControl(const StepControl& c) {
+  require(std::isfinite(c.safety) && c.safety > 0 && c.safety <= 1,
+          "step safety = " + str(c.safety) + ": must be in (0, 1]");
+  require(std::isfinite(c.contactResolution) && c.contactResolution >= 1,
+          "contact resolution = " + str(c.contactResolution) +
+              " steps per contact duration: must be >= 1");
+  require(c.recheckSteps >= 1, "the step's check interval must be >= 1 step");
+}
+
 /// Stops the run at the step that broke the state (design: never lie quietly).
 [[noreturn]] void reportBrokenState(const SimulationState& s) {
   const std::optional<std::string> what = firstNonFiniteParticle(s.particles);
@@ -42,11 +53,123 @@ std::string str(double x) {
   throw NumericalError(msg.str());
 }
 
+/// The fewest steps between two checks of the step that a rebuild starts.
+constexpr std::uint64_t kStepsBetweenChecks = 10;
+
+/// The step asked for or chosen (StepControl), which a landing step may shorten.
+double targetStep(const SimulationState& s) {
+  return s.targetStep > 0.0 ? s.targetStep : s.config.timeStep;
+}
+
+/// The next step's Δt; the clock, timeOrigin + stepsSinceOrigin·Δt, is folded into its origin
+/// first so that it runs on unbroken.
+void changeStep(SimulationState& s, double dt) {
+  if (dt == s.config.timeStep) return;
+  s.timeOrigin += static_cast<double>(s.stepsSinceOrigin) * s.config.timeStep;
+  s.stepsSinceOrigin = 0;
+  s.config.timeStep = dt;
+}
+
+double clock(const SimulationState& s) {
+  return s.timeOrigin + static_cast<double>(s.stepsSinceOrigin) * s.config.timeStep;
+}
+
+/// The network's stable step for `integrator` now, counting the contacts that may form within
+/// two check intervals at step `dt` (docs/physics.md §2.16).
+StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
+  const double lookahead = 2.0 * static_cast<double>(s.config.step.recheckSteps) * dt;
+  // A fixed step is judged by Gershgorin's bound first (the power sweeps only tighten it) and
+  // by the swept one only when it is above that; an automatic step is chosen from 8 sweeps
+  // (within 1.5 % of 32 on the paper's beds, at a fifth of the cost).
+  NetworkFrequency f = networkFrequencyBound(s, s.config.step.automatic ? 8 : 0, lookahead);
+  auto allowed = [&](const NetworkFrequency& g) {
+    return g.omegaMax > 0.0
+               ? stableOmegaDtOver(integrator, g.smallestDampingRatio, g.dampingRatio) / g.omegaMax
+               : std::numeric_limits<double>::infinity();
+  };
+  if (!s.config.step.automatic && !(dt <= allowed(f))) {
+    f = networkFrequencyBound(s, 32, lookahead);
+  }
+  StepCheck c;
+  c.time = clock(s);
+  c.omegaMax = f.omegaMax;
+  c.dampingRatio = f.dampingRatio;
+  c.particle = f.particle;
+  c.contacts = f.contacts + f.approaching;
+  c.networkStep = allowed(f);
+  c.accuracyStep = s.contactScale.duration / s.config.step.contactResolution;
+  c.chosenStep =
+      s.config.step.automatic ? std::min(s.config.step.safety * c.networkStep, c.accuracyStep) : dt;
+  return c;
+}
+
+/// Why `dt` is above the network's step `c` (a fixed step's refusal or stop).
+std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrator) {
+  const bool gear = integrator == Integrator::Gear5;
+  std::ostringstream msg;
+  msg.precision(4);
+  msg << "the time step " << dt << " s is above the step the contact network allows, "
+      << c.networkStep << " s (" << dt / c.networkStep
+      << " × it): " << (gear ? "gear5" : "velocity Verlet")
+      << " is stable for ω Δt <= " << c.networkStep * c.omegaMax
+      << " at the network's damping ratio " << c.dampingRatio
+      << " (physics.md §2.15), and the network's highest frequency is at most " << c.omegaMax
+      << " rad/s (bounded from " << c.contacts << " contacts; particle " << c.particle
+      << "'s row sets it)";
+  return msg.str();
+}
+
+/// A fixed step at the start, or after a change of step, integrator or material: refused
+/// (ConfigError) above the network's step; with no contact yet, above the binary fallback.
+void requireAllowedStep(const SimulationState& s, double dt, Integrator integrator) {
+  const StepCheck c = measureStep(s, integrator, dt);
+  if (c.contacts == 0) {
+    // Nothing to bound yet: the stiffest binary contact's fraction, set from the worst bed
+    // measured (bench/RESULTS.md, "Gear in a bed"), stands in until contacts form.
+    requireStableStep(dt, s.contactScale, integrator);
+    requireStableTangentialDamping(s.config.material, dt, integrator);
+    return;
+  }
+  if (!(dt <= c.networkStep)) {
+    throw ConfigError(aboveNetworkStep(dt, c, integrator) + "; use at most " + str(c.networkStep) +
+                      " s, or time_step = \"auto\"");
+  }
+}
+
+/// The check of the step against the network (StepControl): with step.automatic the step is
+/// chosen, else a fixed step above the network's stops the run or is counted.
+void checkStep(SimulationState& s) {
+  s.stepsSinceCheck = 0;
+  ++s.counters.stepChecks;
+  const double target = targetStep(s);
+  StepCheck c = measureStep(s, s.config.integrator, target);
+  s.stepCheck = c;
+  if (s.config.step.automatic) {
+    s.targetStep = c.chosenStep;
+    changeStep(s, c.chosenStep);
+    return;
+  }
+  if (s.stepLimitDisabled || c.contacts == 0 || target <= c.networkStep) return;
+  if (s.config.step.onUnstable == OnUnstable::Warn) {
+    ++s.counters.unstableChecks;
+    s.counters.worstStepRatio = std::max(s.counters.worstStepRatio, target / c.networkStep);
+    return;
+  }
+  std::ostringstream msg;
+  msg.precision(9);
+  msg << "step " << s.steps << " (t = " << c.time
+      << " s): " << aboveNetworkStep(target, c, s.config.integrator)
+      << "; the run stops before it gains energy (on_unstable = \"stop\"): use a smaller "
+         "time_step, time_step = \"auto\", or on_unstable = \"warn\"";
+  throw NumericalError(msg.str());
+}
+
 void validate(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls) {
   validateMaterial(cfg.material);
   require(std::isfinite(cfg.timeStep) && cfg.timeStep > 0,
           "time step = " + str(cfg.timeStep) + " s: must be > 0");
   require(std::isfinite(cfg.skin) && cfg.skin >= 0, "skin = " + str(cfg.skin) + " m: must be >= 0");
+  validateStepControl(cfg.step);
   require(cfg.gravity.allFinite(), "gravity must be finite");
   require(p.size() > 0, "the scene has no particles");
   require(p.velocity.size() == p.size() && p.angularVelocity.size() == p.size() &&
@@ -194,10 +317,9 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   const std::size_t n = p.size();
   const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
 
-  // Refuse a step the contacts cannot resolve (physics.md §2.7: report the contact duration).
+  // The stiffest binary contact: the accuracy floor's duration, and the step's limit while
+  // there is no contact (physics.md §2.7, §2.16).
   s.contactScale = stiffestContact(config.material, rMin, config.impactSpeed);
-  requireStableStep(config.timeStep, s.contactScale, config.integrator);
-  requireStableTangentialDamping(config.material, config.timeStep, config.integrator);
   s.neighbours.skin = config.skin > 0 ? config.skin : 0.3 * rMin;
 
   const bool gear = config.integrator == Integrator::Gear5;
@@ -229,6 +351,12 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   s.energy.initialPotential = potential;
   for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
     s.energy.initialStored[slot] = s.powers.energy[slot];
+  }
+  // The step: chosen from the network, or a fixed one refused above it (physics.md §2.16).
+  if (config.step.automatic) {
+    checkStep(s);
+  } else {
+    requireAllowedStep(s, config.timeStep, config.integrator);
   }
 }
 
@@ -295,10 +423,21 @@ void advance(SimulationState& s, bool predictNext) {
   ++s.stepsSinceOrigin;
   ++s.steps;
   // 3. Neighbours.
+  bool rebuilt = false;
   if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls, maxMove2)) {
     rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional, threads);
     ++s.counters.rebuilds;
+    rebuilt = true;
   }
+  // The step is checked (and, automatic, chosen) after a rebuild, at most every
+  // kStepsBetweenChecks steps (a settling bed rebuilds every few steps; a check costs about one
+  // step), and at least every recheckSteps steps, on the corrected state: that step does not
+  // predict the next one (it may change Δt).
+  const std::uint64_t since = s.stepsSinceCheck + 1;
+  const bool checking =
+      (s.config.step.automatic || !s.stepLimitDisabled) &&
+      ((rebuilt && since >= kStepsBetweenChecks) || since >= s.config.step.recheckSteps);
+  if (checking) predictNext = false;
   // 4. Forces, then 5-6. accelerations (into the force arrays: they are not needed after this)
   // and the corrector, in one pass over particle ranges: a particle's correction needs only its
   // own acceleration. The force pass runs it on its own threads once the forces are complete.
@@ -352,6 +491,14 @@ void advance(SimulationState& s, bool predictNext) {
   s.counters.wallContacts = now.wallContacts;
   s.counters.neighbourPairs = s.neighbours.second.size();
   s.counters.tangentialEvaluations += now.tangentialEvaluations;
+  StepCounters& c = s.counters;
+  c.smallestStep = c.smallestStep > 0.0 ? std::min(c.smallestStep, dt) : dt;
+  c.largestStep = std::max(c.largestStep, dt);
+  if (checking) {
+    checkStep(s);
+  } else {
+    ++s.stepsSinceCheck;
+  }
 }
 
 }  // namespace
@@ -366,11 +513,35 @@ void Simulation::run(std::uint64_t steps) {
   for (std::uint64_t k = 0; k < steps; ++k) advance(*state_, k + 1 < steps);
 }
 
+void Simulation::advanceTo(double t) {
+  SimulationState& s = *state_;
+  require(std::isfinite(t) && t >= clock(s) - 1e-9 * targetStep(s),
+          "advance to t = " + str(t) + " s: must not be before the clock, " + str(clock(s)) + " s");
+  for (;;) {
+    const double target = targetStep(s);
+    const double remaining = t - clock(s);
+    if (remaining <= 1e-9 * target) break;
+    // The stretch to t in k equal steps no longer than the target: only the stretch that
+    // reaches t is shortened, and by less than one step in all.
+    const double k = std::ceil(remaining / target * (1.0 - 1e-12));
+    const std::uint64_t steps = static_cast<std::uint64_t>(k);
+    changeStep(s, remaining / k);
+    const std::uint64_t checks = s.counters.stepChecks;
+    for (std::uint64_t j = 0; j < steps; ++j) {
+      advance(s, j + 1 < steps);
+      // A new choice of step: the rest of the stretch is laid out again.
+      if (s.config.step.automatic && s.counters.stepChecks != checks) break;
+    }
+  }
+  s.timeOrigin = t;
+  s.stepsSinceOrigin = 0;
+  s.config.timeStep = targetStep(s);
+}
+
 // ---- Accessors and measurements -----------------------------------------------------------
 
 double Simulation::time() const {
-  return state_->timeOrigin +
-         static_cast<double>(state_->stepsSinceOrigin) * state_->config.timeStep;
+  return clock(*state_);
 }
 void Simulation::setTime(double t) {
   state_->timeOrigin = t;
@@ -426,14 +597,33 @@ std::size_t Simulation::addWall(const Wall& wall) {
 
 void Simulation::setTimeStep(double dt) {
   require(std::isfinite(dt) && dt > 0, "time step = " + str(dt) + " s: must be > 0");
-  if (!state_->stepLimitDisabled) {
-    requireStableStep(dt, state_->contactScale, state_->config.integrator);
-    requireStableTangentialDamping(state_->config.material, dt, state_->config.integrator);
+  SimulationState& s = *state_;
+  if (!s.stepLimitDisabled && !s.config.step.automatic) {
+    requireAllowedStep(s, dt, s.config.integrator);
   }
-  // The clock counts steps from its origin: move the origin here so the time runs on unbroken.
-  state_->timeOrigin = time();
-  state_->stepsSinceOrigin = 0;
-  state_->config.timeStep = dt;
+  s.targetStep = dt;
+  changeStep(s, dt);
+}
+
+void Simulation::setStepControl(const StepControl& control) {
+  validateStepControl(control);
+  SimulationState& s = *state_;
+  const StepControl before = s.config.step;
+  s.config.step = control;
+  try {
+    if (control.automatic) {
+      checkStep(s);
+    } else if (!s.stepLimitDisabled) {
+      requireAllowedStep(s, targetStep(s), s.config.integrator);
+    }
+  } catch (...) {
+    s.config.step = before;
+    throw;
+  }
+}
+
+const StepCheck& Simulation::stepCheck() const {
+  return state_->stepCheck;
 }
 
 void Simulation::setMaterial(const Material& material) {
@@ -446,9 +636,27 @@ void Simulation::setMaterial(const Material& material) {
   const Particles& p = s.particles;
   const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
   const ContactScale scale = stiffestContact(material, rMin, s.config.impactSpeed);
-  if (!s.stepLimitDisabled) {
-    requireStableStep(s.config.timeStep, scale, s.config.integrator);
-    requireStableTangentialDamping(material, s.config.timeStep, s.config.integrator);
+  if (!s.stepLimitDisabled && !s.config.step.automatic) {
+    if (material.hasFriction() == s.frictional) {
+      // The network under the new law (the contacts are where they are).
+      const Material current = s.config.material;
+      const ContactScale currentScale = s.contactScale;
+      s.config.material = material;
+      s.contactScale = scale;
+      try {
+        requireAllowedStep(s, targetStep(s), s.config.integrator);
+      } catch (...) {
+        s.config.material = current;
+        s.contactScale = currentScale;
+        throw;
+      }
+      s.config.material = current;
+      s.contactScale = currentScale;
+    } else {
+      // Rotations come or go: the binary contacts' limit, as with no contact.
+      requireStableStep(targetStep(s), scale, s.config.integrator);
+      requireStableTangentialDamping(material, targetStep(s), s.config.integrator);
+    }
   }
   // Accepted: nothing above has changed the state.
   s.config.material = material;
@@ -483,14 +691,14 @@ void Simulation::setMaterial(const Material& material) {
     s.translation.d2[i] = s.force[i] * (1.0 / p.mass[i]) + s.config.gravity;
     if (s.frictional) s.rotation.d2[i] = s.torque[i] * (1.0 / p.inertia(i));
   }
+  if (s.config.step.automatic) checkStep(s);  // the step for the new law
 }
 
 void Simulation::setIntegrator(Integrator integrator) {
   SimulationState& s = *state_;
   if (integrator == s.config.integrator) return;
-  if (!s.stepLimitDisabled) {
-    requireStableStep(s.config.timeStep, s.contactScale, integrator);
-    requireStableTangentialDamping(s.config.material, s.config.timeStep, integrator);
+  if (!s.stepLimitDisabled && !s.config.step.automatic) {
+    requireAllowedStep(s, targetStep(s), integrator);
   }
   const std::size_t n = s.particles.size();
   for (Derivatives* d : {&s.translation, &s.rotation}) {
@@ -504,6 +712,7 @@ void Simulation::setIntegrator(Integrator integrator) {
     }
   }
   s.config.integrator = integrator;
+  if (s.config.step.automatic) checkStep(s);  // the new integrator's interval
 }
 
 void Simulation::setThreads(int threads) {

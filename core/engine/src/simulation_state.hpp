@@ -6,6 +6,7 @@
 ///   4. SimulationState itself
 #include <algorithm>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "granular/contact_model.hpp"
@@ -235,6 +236,11 @@ struct SimulationState {
   bool rebuildEveryStep = false;
   bool stepLimitDisabled = false;
   ContactScale contactScale;
+  /// The step asked for (fixed) or chosen (automatic) [s]; config.timeStep is the next step's,
+  /// shorter than this one when advanceTo lands on a time. 0: config.timeStep.
+  double targetStep = 0.0;
+  std::uint64_t stepsSinceCheck = 0;  ///< steps since the step was last checked
+  StepCheck stepCheck;                ///< the last check
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle
   // and step costs less than 16 bytes per particle of memory traffic.)
@@ -254,6 +260,12 @@ struct SimulationState {
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
+};
+
+/// The engine's own files' way into a Simulation's state (checkpoint I/O, the network's bound).
+struct SimulationAccess {
+  static const SimulationState& state(const Simulation& sim) { return *sim.state_; }
+  static Simulation make(std::unique_ptr<SimulationState> s) { return Simulation(std::move(s)); }
 };
 
 }  // namespace granular

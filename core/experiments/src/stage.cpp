@@ -73,6 +73,13 @@ class StageClock {
     }
   }
 
+  /// The stage time of the next sample or snapshot [s].
+  double nextEvent() const {
+    double t = double(nextSample_) * output_.interval;
+    if (nextSnapshot_ < snapshots_.size()) t = std::min(t, snapshots_[nextSnapshot_]);
+    return t;
+  }
+
   /// Whether observe(sim, t) would call an observer.
   bool due(double t) const {
     return t + tolerance_ >= double(nextSample_) * output_.interval ||
@@ -101,6 +108,81 @@ class StageClock {
   std::size_t nextSnapshot_ = 0;
 };
 
+/// runStage with an automatic step: the simulation advances to each sample, snapshot and the
+/// end exactly (Simulation::advanceTo), and between them in runs of whole steps where no event
+/// can fall inside (the longest step the control may choose is its accuracy floor).
+StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const OutputSpec& output,
+                              const StageObserver& observer, const StageProgress* resume) {
+  const double tolerance = 1e-9 * output.interval;
+  const double resumedAt = resume ? resume->time.value_or(0.0) : 0.0;
+  const double origin = sim.time() - resumedAt;  // the stage's t = 0 on the simulation's clock
+  StageClock clock(output, observer, 1e-3 * output.interval);
+  std::optional<double> belowSince;
+  if (resume) {
+    clock.resumeAt(resumedAt);
+    belowSince = resume->belowSince;
+  } else {
+    clock.observe(sim, 0.0);
+  }
+  auto quiet = [&](double t) {
+    if (!stage.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage.end.kineticEnergyBelow) {
+      belowSince.reset();
+      return false;
+    }
+    if (!belowSince) belowSince = t;
+    return t - *belowSince + tolerance >= stage.end.sustainTime;
+  };
+  if (!resume) quiet(0.0);
+
+  StageResult result;
+  std::uint64_t n = resume ? resume->steps : 0;
+  const std::uint64_t start = sim.stepCount() - n;
+  std::uint64_t lastProgress = n, lastCheckpoint = n;
+  double t = resumedAt;
+  // With a kinetic-energy end the state is looked at after every step, as with a fixed step.
+  const std::uint64_t run =
+      stage.end.kineticEnergyBelow
+          ? 1
+          : std::max<std::uint64_t>(
+                1,
+                std::min(observer.progressSteps > 0 && observer.onProgress ? observer.progressSteps
+                                                                           : std::uint64_t(1000),
+                         observer.checkpointSteps > 0 && observer.onCheckpoint
+                             ? observer.checkpointSteps
+                             : std::uint64_t(1000)));
+  // The longest step the control may choose: its accuracy floor.
+  const double longest = sim.contactScale().duration / sim.config().step.contactResolution;
+  while (t + tolerance < stage.end.maxTime) {
+    const double event = std::min(stage.end.maxTime, clock.nextEvent());
+    if (event - t > double(run) * longest) {
+      sim.run(run);  // whole steps: none reaches the event
+    } else {
+      sim.advanceTo(origin + event);
+    }
+    n = sim.stepCount() - start;
+    t = sim.time() - origin;
+    if (std::abs(t - event) <= tolerance) t = event;
+    clock.observe(sim, t);
+    if (observer.onProgress && observer.progressSteps > 0 &&
+        n - lastProgress >= observer.progressSteps) {
+      observer.onProgress(sim, stage);
+      lastProgress = n;
+    }
+    if (quiet(t)) {
+      result.reason = StageEndReason::KineticEnergy;
+      break;
+    }
+    if (observer.onCheckpoint && observer.checkpointSteps > 0 &&
+        n - lastCheckpoint >= observer.checkpointSteps) {
+      observer.onCheckpoint(sim, StageProgress{n, belowSince, t});
+      lastCheckpoint = n;
+    }
+  }
+  result.steps = n;
+  result.duration = t;
+  return result;
+}
+
 }  // namespace
 
 void beginStage(Simulation& sim, const StageSpec& stage) {
@@ -116,6 +198,7 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     throw ConfigError("stage '" + stage.name + "': max time must be > 0");
   }
   if (!resume) beginStage(sim, stage);
+  if (sim.config().step.automatic) return runStageAutomatic(sim, stage, output, observer, resume);
 
   const double dt = sim.config().timeStep;
   const double tolerance = 1e-6 * dt;
@@ -168,7 +251,7 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
       result.reason = StageEndReason::KineticEnergy;
       break;
     }
-    if (checkpointDue(n)) observer.onCheckpoint(sim, StageProgress{n, belowSince});
+    if (checkpointDue(n)) observer.onCheckpoint(sim, StageProgress{n, belowSince, std::nullopt});
   }
   result.steps = n;
   result.duration = double(n) * dt;

@@ -276,7 +276,15 @@ Simulation buildSimulation(const Scene& scene) {
   // the density the particles really have.
   SimulationConfig config = scene.simulation;
   config.material.density = built.density;
-  return Simulation(std::move(built.particles), buildWalls(scene.box), config);
+  try {
+    return Simulation(std::move(built.particles), buildWalls(scene.box), config);
+  } catch (const ConfigError& e) {
+    // A packed start's step, refused against its contact network: name the key.
+    const std::string what = e.what();
+    if (what.rfind("the time step ", 0) != 0) throw;
+    const std::string file = scene.sourceFile.empty() ? "the scene" : scene.sourceFile.string();
+    throw ConfigError(file + ": simulation.time_step: " + what);
+  }
 }
 
 void forEachGridParticle(const GridGenerator& grid,

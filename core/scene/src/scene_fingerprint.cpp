@@ -139,13 +139,19 @@ SceneFingerprint fingerprintScene(const Scene& scene) {
   const auto& [sourceFile, simulation, box, generators, totalMass, stages, output] = scene;
   // The scene file's name is not part of the run: only where messages point.
   const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
-  const auto& [material, gravity, integrator, timeStep, skin, impactSpeed, threads] = simulation;
+  const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads] =
+      simulation;
   static_cast<void>(threads);  // results are the same bits for any thread count
 
   SceneFingerprint f;
   f.parts.push_back({"material", materialHash(material), "[material]" + in});
   Canonical sim;
   sim << gravity << integrator << timeStep << skin;
+  // An automatic step's settings shape the run; a fixed step's on_unstable does not (it stops
+  // or warns, the steps are the same), and fixed scenes keep the fingerprints they had.
+  if (step.automatic) {
+    sim << std::string("auto") << step.safety << step.contactResolution << step.recheckSteps;
+  }
   f.parts.push_back({"simulation", sim.hash(), "[simulation]" + in});
   // Apart from [simulation]: when not given, it is computed from the particles, and a message
   // about an edited particle file should not blame [simulation] for it.

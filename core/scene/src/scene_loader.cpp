@@ -20,7 +20,10 @@
 /// material.no_pull                    | -     | boolean                      | true
 /// simulation.gravity                  | m/s²  | 3 finite numbers             | [0, 0, -9.81]
 /// simulation.integrator               | -     | "gear5" | "verlet"           | "gear5"
-/// simulation.time_step                | s     | > 0                          | required
+/// simulation.time_step                | s     | > 0, or "auto"               | required
+/// simulation.step_safety    (auto)    | -     | (0, 1]                       | 0.9
+/// simulation.contact_resolution(auto) | -     | >= 1 steps per t_c           | 10
+/// simulation.on_unstable    (fixed)   | -     | "stop" | "warn"              | "stop"
 /// simulation.skin                     | m     | >= 0 (0 = automatic)         | 0
 /// simulation.impact_speed             | m/s   | > 0                          | computed
 /// box.min, box.max                    | m     | 3 finite numbers, max > min  | required
@@ -55,10 +58,12 @@
 /// no motion).
 ///
 /// Particles are checked as the builder will place them: each must lie inside the box, the rows
-/// of a CSV file must not overlap, and the time step must be below the engine's limit
-/// (maxStableStep: a fraction of the stiffest contact's duration that depends on the integrator).
-/// With friction, γt must be at most maxTangentialDamping: z/(21 Δt), z = 0.163 (gear5) or 1
-/// (verlet), the tangential dashpots' explicit stability.
+/// of a CSV file must not overlap. A fixed time step of a scene whose particles all come from
+/// grids (which start apart: no contact) must be below the engine's limit for a scene without
+/// contacts (maxStableStep: a fraction of the stiffest contact's duration that depends on the
+/// integrator) and, with friction, γt at most maxTangentialDamping: z/(21 Δt), z = 0.163
+/// (gear5) or 1 (verlet). A scene read from CSV files may start packed: the engine checks its
+/// step against the contact network when it is built (buildSimulation names the key then).
 /// The loader does these checks so that the message names the file, the key and the CSV line; the
 /// builder and the engine check again.
 ///
@@ -190,7 +195,27 @@ bool readSimulation(const TomlTableReader& root, const std::string& file,
   config.gravity = r.vec3("gravity", config.gravity, Range::any());
   const std::string integrator = r.choice("integrator", "gear5", {"gear5", "verlet"});
   config.integrator = integrator == "verlet" ? Integrator::VelocityVerlet : Integrator::Gear5;
-  config.timeStep = r.number("time_step", Range::above(0));
+  const toml::node* step = table->get("time_step");
+  if (step && step->is_string()) {
+    r.choice("time_step", "", {"auto"});
+    config.step.automatic = true;
+    config.timeStep = 1.0;  // replaced by the engine's first choice (checkTimeStep: the floor)
+  } else {
+    config.timeStep = r.number("time_step", Range::above(0));
+  }
+  config.step.safety = r.number("step_safety", config.step.safety, Range::aboveUpTo(0, 1));
+  config.step.contactResolution =
+      r.number("contact_resolution", config.step.contactResolution, Range::closed(1, 1e6));
+  if (!config.step.automatic) {
+    for (const char* key : {"step_safety", "contact_resolution"}) {
+      if (r.has(key)) r.fail(key, "applies to time_step = \"auto\" only");
+    }
+  }
+  const std::string unstable = r.choice("on_unstable", "stop", {"stop", "warn"});
+  if (config.step.automatic && r.has("on_unstable")) {
+    r.fail("on_unstable", "applies to a fixed time_step only (\"auto\" chooses a stable one)");
+  }
+  config.step.onUnstable = unstable == "warn" ? OnUnstable::Warn : OnUnstable::Stop;
   config.skin = r.number("skin", 0.0, Range::atLeast(0));
   config.impactSpeed = r.number("impact_speed", config.impactSpeed, Range::above(0));
   return r.has("impact_speed");
@@ -512,7 +537,7 @@ TomlTableReader tableOrRoot(const TomlTableReader& root, std::string_view key,
 /// The engine's stability rule (Simulation refuses the same step), checked with the density the
 /// builder will use, so that the message can name the key. Also refuses a total_mass that would
 /// give a density beyond the declared bound, and a damping that over-damps the stiffest contact.
-void checkTimeStep(const TomlTableReader& root, const std::string& file, const Scene& scene,
+void checkTimeStep(const TomlTableReader& root, const std::string& file, Scene& scene,
                    const MotionBound& bound) {
   Material material = scene.simulation.material;
   if (scene.totalMass) {
@@ -528,6 +553,14 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, const S
     scale = stiffestContact(material, bound.smallestRadius, scene.simulation.impactSpeed);
   } catch (const ConfigError& e) {
     tableOrRoot(root, "material", file).fail("normal_damping", e.what());
+  }
+  if (scene.simulation.step.automatic) {
+    // The largest step the engine may choose: the accuracy floor.
+    scene.simulation.timeStep = scale.duration / scene.simulation.step.contactResolution;
+    return;
+  }
+  for (const Generator& g : scene.generators) {
+    if (std::holds_alternative<CsvGenerator>(g)) return;  // the engine checks the network
   }
   try {
     requireStableStep(scene.simulation.timeStep, scale, scene.simulation.integrator);
@@ -602,7 +635,11 @@ Scene loadScene(const std::filesystem::path& file) {
   scene.generators = readParticles(root, name, file.parent_path(), scene.box,
                                    scene.simulation.material.hasFriction(), bound);
   scene.totalMass = root.optionalNumber("total_mass", Range::above(0));
-  scene.stages = readStages(root, name, scene.box, scene.simulation.timeStep);
+  // An automatic step has no smallest value known here: its stages are not counted in steps.
+  scene.stages =
+      readStages(root, name, scene.box,
+                 scene.simulation.step.automatic ? std::numeric_limits<double>::infinity()
+                                                 : scene.simulation.timeStep);
   scene.output = readOutput(root, name);
   if (!impactSpeedGiven) {
     scene.simulation.impactSpeed =

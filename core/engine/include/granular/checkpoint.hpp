@@ -40,9 +40,12 @@ class CheckpointError : public std::runtime_error {
 ///    file is read into this build's layout by term (older files: the tangential spring's 4);
 ///    and every energy account (its value now, since the start, at the start) by column after
 ///    the material, so that a term's accounts travel without a field of their own.
-/// Versions 2 to 4 still read; checked against a SceneFingerprint they are refused, since their
+/// 6: the step control (StepControl: automatic, safety, contact resolution, check interval,
+///    on_unstable), the step asked for or chosen, and the steps since the step was last
+///    checked, after the accounts: an automatic run resumes bit for bit (older files: fixed).
+/// Versions 2 to 5 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 5;
+inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

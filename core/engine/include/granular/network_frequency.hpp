@@ -39,14 +39,31 @@ double contactGain(const ContactStiffness& k, const ContactBody& body, bool rota
 /// With `sweeps` = 0 it is the block Gershgorin bound: the largest Σ over a particle's contacts
 /// of gain_i (gain_i + gain_other). Each sweep of the power method on the contacts' gain matrix
 /// lowers it, still an upper bound (Collatz–Wielandt). 0 with no contacts.
+///
+/// With `lookahead` > 0 [s], pairs (and wall contacts) not yet touching count too when they
+/// close their gap within `lookahead` at their present closing speed: a neighbour-list
+/// candidate approaching at u across gap g ≤ u · lookahead. Under Hertz's law such a contact,
+/// and a touching one that is closing, is counted at the overlap it would add in a head-on
+/// impact at u (the peak overlap (5 m u² / (4 κ √R))^(2/5)), so that an impact does not arrive
+/// at a step chosen for the bed's gentle contacts.
+///
+/// The dashpots' matrix C (normal γn m_ij, tangential γt m_ij at the contact point, rolling
+/// C_r) is bounded the same way: Γ ≥ λ_max(M^(-1/2) C M^(-1/2)), the fastest damping rate.
 struct NetworkFrequency {
   double omegaMax = 0;
   std::size_t particle = 0;
-  std::size_t contacts = 0;
-  /// The largest damping ratio of a contact mode, seen in the same pass: normal
-  /// γn √(m_ij/k_n)/2; with friction the tangential dashpot on k_t likewise; rolling η_r.
+  std::size_t contacts = 0;     ///< touching contacts counted
+  std::size_t approaching = 0;  ///< contacts not yet touching counted (the lookahead)
+  double dampingRate = 0;       ///< Γ [1/s]
+  /// Γ / (2 ω_max): the damping ratio of a mode at the frequency bound damped at the bound on
+  /// the rates; the step is chosen at this (ω, Γ) corner (physics.md §2.15).
   double dampingRatio = 0;
+  /// The smallest damping ratio of one contact's own modes [-] (normal γn √(m_ij/k_n)/2,
+  /// tangential γt √(m_ij/k_t)/2 with friction, rolling η_r): the stand-in for the least damped
+  /// mode, which Gear's interval needs (undamped, Gear5 grows; physics.md §2.15).
+  double smallestDampingRatio = 0;
 };
-NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32);
+NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32,
+                                       double lookahead = 0.0);
 
 }  // namespace granular

@@ -18,15 +18,25 @@ double stepSpectralRadius(Integrator integrator, double w, double zeta);
 /// has spectral radius at most 1 + `growthPerStep` (Gear5 is never exactly stable undamped: its
 /// growth per step is a power of ω Δt; velocity Verlet is, up to ω Δt = 2). Computed from the
 /// step's linear map, by bisection to 10⁻⁶.
-double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep = 1e-10);
+double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep = 1e-9);
+
+/// The largest ω Δt stable for every damping ratio in [ζ_lo, ζ_hi]: the smallest stableOmegaDt
+/// over that range, on the grid (k/64)² widened outwards (so the answer only shortens), each grid
+/// value computed once per process. A mode of the network at most at the frequency bound and
+/// damped at most at the rates' bound, but at least as much as the least damped contact, is
+/// then stable (physics.md §2.15: ζ·stableOmegaDt(ζ) grows with ζ, so the modes damped more
+/// than the corner's ratio are covered too). What the step control calls at every check.
+double stableOmegaDtOver(Integrator integrator, double zetaLow, double zetaHigh);
 
 /// The step the network allows now and what sets it.
 struct NetworkStep {
-  double dt = 0;        ///< stableOmegaDt(ζ) / ω_max [s]; +∞ with no contacts
-  double omegaMax = 0;  ///< the network's frequency bound [rad/s]
-  double zeta = 0;      ///< the largest damping ratio of a contact's normal or tangential mode
+  double dt = 0;            ///< stableOmegaDt(ζ) / ω_max [s]; +∞ with no contacts
+  double omegaMax = 0;      ///< the network's frequency bound [rad/s]
+  double zeta = 0;          ///< Γ / (2 ω_max): the bound's damping ratio (NetworkFrequency)
+  double smallestZeta = 0;  ///< the least damped contact mode's ratio
   std::size_t particle = 0;
 };
-NetworkStep networkStableStep(const Simulation& sim);
+/// With `lookahead` [s]: contacts about to form count too (networkFrequencyBound).
+NetworkStep networkStableStep(const Simulation& sim, double lookahead = 0.0);
 
 }  // namespace granular

@@ -38,12 +38,39 @@ double maxTangentialDamping(double dt, Integrator integrator);
 /// friction and its γt is above maxTangentialDamping (without friction γt acts on nothing).
 void requireStableTangentialDamping(const Material& material, double dt, Integrator integrator);
 
+/// What a run does when its fixed time step is above the step the contact network allows.
+enum class OnUnstable {
+  Stop,  ///< the run stops with a NumericalError naming the step, the bound and the particle
+  Warn,  ///< the run goes on; StepCounters::unstableChecks counts the checks that found it so
+};
+
+/// How the engine chooses its time step (docs/physics.md §2.16). A fixed step is checked against
+/// the network's stable step (network_step.hpp) at the start and whenever the step is checked;
+/// an automatic one is re-chosen then. The step is checked when the neighbour list is rebuilt
+/// (at most every 10 steps) and at least every `recheckSteps` steps, never inside a step.
+struct StepControl {
+  bool automatic = false;  ///< Δt chosen from the live contacts (time_step = "auto")
+  /// Δt = safety × the network's stable step, (0, 1]. The bound on ω_max is above the exact
+  /// one (1.3–1.5 × on settled beds, tests/test_network_frequency.cpp); the 10 % margin is for
+  /// what the linearisation leaves out: contacts that open or close inside a step.
+  double safety = 0.9;
+  /// Accuracy floor: Δt ≤ t_c / N, t_c the stiffest contact's duration (contactScale()), so
+  /// that an impact is resolved in at least N steps however stable a longer step would be.
+  /// 10: restitution within 3 % (damped Hooke) and 0.5 % (Hertz) (bench/RESULTS.md).
+  double contactResolution = 10.0;
+  OnUnstable onUnstable = OnUnstable::Stop;  ///< for a fixed step
+  std::uint64_t recheckSteps = 100;          ///< the longest run of steps between checks
+};
+
 /// Everything the engine needs besides the particles and walls.
 struct SimulationConfig {
   Material material;                     ///< particle and wall material
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);  ///< gravitational acceleration g [m/s²]
   Integrator integrator = Integrator::Gear5;
-  double timeStep = 1e-4;    ///< Δt [s]; refused above maxStableStep()
+  /// Δt [s]: fixed, refused above the network's stable step (or, with no contact yet, above
+  /// maxStableStep()); with step.automatic the first step, after that the chosen one.
+  double timeStep = 1e-4;
+  StepControl step;
   double skin = 0.0;         ///< neighbour-list skin [m]; 0 picks 0.3·smallest radius
   double impactSpeed = 1.0;  ///< largest expected approach speed [m/s] (Hertz step check only)
   /// Threads for the force pass and the integrator [-]; 0 = OpenMP's default (OMP_NUM_THREADS
@@ -118,6 +145,25 @@ struct StepCounters {
   std::size_t neighbourPairs = 0;           ///< candidate pairs in the neighbour list
   std::uint64_t rebuilds = 0;               ///< neighbour-list rebuilds since the start
   std::uint64_t tangentialEvaluations = 0;  ///< tangential force evaluations since the start
+  std::uint64_t stepChecks = 0;             ///< checks of the step against the network
+  /// Checks that found a fixed step above the network's (OnUnstable::Warn) [-].
+  std::uint64_t unstableChecks = 0;
+  double worstStepRatio = 0;  ///< the largest Δt / network step those checks found [-]
+  /// The smallest and largest step taken since the start [s] (with step.automatic, the chosen
+  /// range; steps shortened to land on a time included).
+  double smallestStep = 0, largestStep = 0;
+};
+
+/// The last check of the step against the network (StepControl).
+struct StepCheck {
+  double time = 0;           ///< when [s]
+  double networkStep = 0;    ///< the network's stable step [s] (+∞ with no contacts)
+  double omegaMax = 0;       ///< the network's frequency bound [rad/s]
+  double dampingRatio = 0;   ///< Γ / (2 ω_max) [-]
+  std::size_t particle = 0;  ///< whose row set ω_max
+  std::size_t contacts = 0;  ///< touching contacts, and those about to form, counted
+  double accuracyStep = 0;   ///< t_c / N [s]
+  double chosenStep = 0;     ///< the step taken from then on [s]
 };
 
 /// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
@@ -156,6 +202,10 @@ class Simulation {
 
   /// Advances one time step.
   void step();
+  /// Advances to simulated time `t` [s] (>= time()): with step.automatic, in steps of the chosen
+  /// Δt, the last ones of each stretch between checks shortened alike to land on t; with a fixed
+  /// step, in whole steps, the last one shortened. The clock reads t exactly afterwards.
+  void advanceTo(double t);
   /// Advances n steps: the same bits as n calls of step(), faster, as each step but the last
   /// predicts the next one in its corrector's loop (one pass over the integrator's arrays a
   /// step instead of two). Drivers that look at the state only every so often should prefer it.
@@ -193,7 +243,14 @@ class Simulation {
   /// Index of the wall with this name, or -1.
   long findWall(const std::string& name) const;
 
-  /// Stiffest contact and its duration, from which the time step limit follows.
+  /// The step control (time_step = "auto", safety, accuracy floor, on_unstable); the step is
+  /// checked, and with step.automatic chosen, at once. Refused like setTimeStep (ConfigError).
+  void setStepControl(const StepControl& control);
+  /// The last check of the step against the network.
+  const StepCheck& stepCheck() const;
+
+  /// Stiffest contact and its duration: the accuracy floor's t_c, and the step's limit while
+  /// the scene has no contact.
   const ContactScale& contactScale() const;
   /// True when the tangential force and rotations are integrated (μ > 0).
   bool frictional() const;
@@ -224,7 +281,7 @@ class Simulation {
   std::uint64_t stateHash() const;
 
  private:
-  friend struct SimulationAccess;   // checkpoint I/O (core/engine/src/checkpoint.cpp)
+  friend struct SimulationAccess;   // the engine's own files (core/engine/src/simulation_state.hpp)
   friend struct SimulationStudies;  // the switches of granular/engine_studies.hpp
   explicit Simulation(std::unique_ptr<SimulationState> state);
   std::unique_ptr<SimulationState> state_;

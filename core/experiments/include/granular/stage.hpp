@@ -24,6 +24,8 @@ struct StageResult {
 struct StageProgress {
   std::uint64_t steps = 0;           ///< steps taken since the stage began
   std::optional<double> belowSince;  ///< stage time since which the kinetic energy is low [s]
+  /// The stage time [s] with an automatic step (a fixed one's is steps · Δt).
+  std::optional<double> time;
 };
 
 /// Callbacks of a running stage; any may be empty.
@@ -32,7 +34,9 @@ struct StageObserver {
   std::function<void(const Simulation&)> onSample;
   /// When the stage clock passes a snapshot time.
   std::function<void(const Simulation&, double snapshotTime)> onSnapshot;
-  /// Every `progressSteps` steps (for progress lines; the core itself never prints).
+  /// Every `progressSteps` steps (for progress lines; the core itself never prints). With an
+  /// automatic step: after the first step that completes `progressSteps` more (likewise for
+  /// checkpoints).
   std::function<void(const Simulation&, const StageSpec&)> onProgress;
   std::uint64_t progressSteps = 1000;
   /// Every `checkpointSteps` steps (0: never), after the step's samples: a moment at which the
