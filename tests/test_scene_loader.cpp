@@ -242,7 +242,7 @@ TEST_F(SceneLoader, HertzStepCheckUsesTheHeadOnApproachOfTwoSpheres) {
   // Measured on the impact itself (at t_c/1300), the duration is the engine's t_c. The scene
   // starts with the pair apart and closing: the engine's network counts the coming contact at
   // the peak overlap of a head-on impact at 1 m/s, and a step above that network's refuses to
-  // build, naming the key.
+  // build, naming the key (velocity Verlet: gear5 keeps its binary limit, t_c/50, as well).
   // 5 mm apart: within the neighbour list's skin (0.3 R), so the network sees them coming.
   write("pair.csv",
         "x,y,z,r,vx,vy,vz\n0.4675,0.5,0.5,0.03,0.5,0,0\n0.5325,0.5,0.5,0.03,-0.5,0,0\n");
@@ -250,6 +250,7 @@ TEST_F(SceneLoader, HertzStepCheckUsesTheHeadOnApproachOfTwoSpheres) {
 normal_law = "hertz"
 normal_damping = 0.0
 [simulation]
+integrator = "verlet"
 time_step = 1e-5
 gravity = [0, 0, 0]
 [box]

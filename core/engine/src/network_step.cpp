@@ -73,8 +73,9 @@ double stableOmegaDt(Integrator integrator, double zeta, double growthPerStep) {
 double stableOmegaDtOver(Integrator integrator, double zetaLow, double zetaHigh) {
   // The grid ζ_k = (k/64)²: fine near 0, where Gear's interval changes fastest with ζ.
   constexpr double kGrid = 64.0;
-  const double low = std::floor(std::sqrt(std::max(zetaLow, 0.0)) * kGrid);
-  const double high = std::ceil(std::sqrt(std::max(zetaHigh, zetaLow)) * kGrid);
+  // A least damped contact above the corner's ratio: the corner's ratio is the lower end.
+  const double low = std::floor(std::sqrt(std::clamp(zetaLow, 0.0, zetaHigh)) * kGrid);
+  const double high = std::ceil(std::sqrt(std::max(zetaHigh, 0.0)) * kGrid);
   if (!(high < 1e4)) return 0.0;  // no finite ratio: nothing is stable
   static std::mutex mutex;
   static std::map<std::pair<int, long>, double> table;
