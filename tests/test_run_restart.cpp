@@ -133,6 +133,48 @@ TEST(RunRestart, KilledTwiceAndResumedEndsBitForBitLikeAnUninterruptedRun) {
   expectSameOutputs(reference, out);
 }
 
+TEST(RunRestart, AnAutomaticStepKilledAndResumedEndsBitForBit) {
+  // time_step = "auto": the chosen step, its target and the steps since its last check travel
+  // in the checkpoint (format 6), and a stage resumes at its stage time, so the resumed run
+  // chooses the same steps and lands on the same sample times.
+  const fs::path dir = freshDir("auto_scene");
+  fs::create_directories(dir);
+  const std::string text = slurp(kScene);
+  const std::string::size_type at = text.find("time_step = 1.2e-4");
+  ASSERT_NE(at, std::string::npos);
+  const fs::path scene = dir / "restart-auto.toml";
+  // Verlet with no accuracy floor to speak of: its step follows the network (gear5's stays at
+  // its t_c/50 cap in this bed, Verlet's at t_c/10 by default).
+  std::string automatic = text.substr(0, at) + "time_step = \"auto\"\ncontact_resolution = 2\n" +
+                          text.substr(text.find('\n', at) + 1);
+  const std::string::size_type gear = automatic.find("integrator = \"gear5\"");
+  ASSERT_NE(gear, std::string::npos);
+  automatic.replace(gear, std::string("integrator = \"gear5\"").size(), "integrator = \"verlet\"");
+  std::ofstream(scene) << automatic;
+  const fs::path reference = freshDir("auto_reference");
+  Child whole(reference, {"--checkpoint-every", "0"}, {}, scene);
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  const fs::path out = freshDir("auto_killed");
+  const fs::path checkpoint = out / "checkpoint.bin";
+  const std::vector<std::string> often = {"--checkpoint-every", "1e-9", "--resume"};
+  Child life(out, often, {}, scene);
+  ASSERT_TRUE(life.started());
+  if (!waitForNewCheckpoints(life, checkpoint, 3)) {
+    ADD_FAILURE() << "the run ended before it could be killed\n" << life.stderrText();
+    return;
+  }
+  life.kill();
+  ASSERT_EQ(life.wait(), -SIGKILL);
+  const granular::Simulation saved = granular::readCheckpoint(checkpoint);
+  EXPECT_TRUE(saved.config().step.automatic);
+  Child last(out, often, {}, scene);
+  ASSERT_TRUE(last.started());
+  ASSERT_EQ(last.wait(), 0) << last.stderrText();
+  expectSameOutputs(reference, out);
+}
+
 TEST(RunRestart, InjectedNaNStopsAtItsStepAndTheLastGoodStateResumes) {
   const fs::path reference = freshDir("nan_reference");
   Child whole(reference, {"--checkpoint-every", "0"});
