@@ -62,6 +62,31 @@ def windows(rows, dt, interval, end):
     return {k * interval: [v / counts[k] for v in sums[k]] for k in sorted(sums) if 1 <= k <= last}
 
 
+def read_timed_series(path):
+    """Per-step rows {time: (top_z, s11, s22, s33)} of granular's CSV (steps of any length)."""
+    rows = {}
+    with open(path) as f:
+        for line in f:
+            if line.startswith("step"):
+                continue
+            parts = line.split(",")
+            rows[float(parts[1])] = tuple(float(v) for v in parts[-4:])
+    return rows
+
+
+def timed_windows(rows, interval, end):
+    """windows() for steps of any length: the mean over the steps ending in ((k-1) I, k I]."""
+    sums, counts = {}, {}
+    for t, values in rows.items():
+        k = math.ceil(t / interval - 1e-6)
+        acc = sums.setdefault(k, [0.0] * len(values))
+        for i, v in enumerate(values):
+            acc[i] += v
+        counts[k] = counts.get(k, 0) + 1
+    last = math.floor(end / interval + 1e-6)
+    return {k * interval: [v / counts[k] for v in sums[k]] for k in sorted(sums) if 1 <= k <= last}
+
+
 def sweep_error(run, ref, from_time):
     """max |s33 - s33_ref| / |s33_ref| over the common windows ending at or after from_time."""
     worst = 0.0
@@ -255,7 +280,7 @@ def main():
     largest = {}
     for code in sorted(runs):
         factors = sorted(runs[code])
-        if len(factors) < 2:
+        if len(factors) < 2 or code.startswith("granular-auto"):
             continue  # run at the paper's step only, for the stress table
         ref_factor = factors[0]
         ref = windows(read_series(runs[code][ref_factor][1]), dt0 * ref_factor, args.interval,
@@ -268,7 +293,7 @@ def main():
                 with open(out) as f:
                     text = f.read()
                 # granular refuses a step above its integrator's limit before running
-                refused = re.search(r"above the (stable )?limit", text)
+                refused = re.search(r"above the (stable )?limit|contact network allows", text)
                 reason = "refused (step limit)" if refused else "failed (unstable)"
                 print(f"| {code} | {factor:g} | {dt:.3g} | - | {reason} | no | - |")
                 continue
@@ -287,8 +312,9 @@ def main():
     print("\n| code | largest step / paper dt | threads | simulated s per wall s | "
           "granular-gear5 / this | granular-verlet / this |")
     print("|---|---|---|---|---|---|")
+    trust = {}
     for threads in sorted({t for (_, t) in best}):
-        speed = {}
+        speed = trust.setdefault(threads, {})
         for code, factor in largest.items():
             if (code, threads) in best:
                 wall, _, steps = best[(code, threads)]
@@ -299,7 +325,44 @@ def main():
                 o = speed.get(ours)
                 ratios.append(f"{o[1] / v:.2f}" if o else "-")
             print(f"| {code} | {factor:g} | {threads} | {v:.3f} | {ratios[0]} | {ratios[1]} |")
+    auto_table(args, runs, best, trust, dt0, tend)
     return 0
+
+
+def auto_table(args, runs, best, trust, dt0, tend):
+    """time_step = "auto" (one run per code, its own steps): sigma33 against granular-verlet's
+    small-step reference, and its speed (simulated s per wall s, its own timing) against each
+    peer's speed at the peer's largest step within the tolerance."""
+    autos = sorted(c for c in runs if c.startswith("granular-auto"))
+    if not autos or "granular-verlet" not in runs:
+        return
+    ref_factor = sorted(runs["granular-verlet"])[0]
+    ref = windows(read_series(runs["granular-verlet"][ref_factor][1]), dt0 * ref_factor,
+                  args.interval, tend)
+    print(f"\n### time_step = \"auto\": sigma33 against granular-verlet at {ref_factor:g} x dt, "
+          "and speed against each code's largest step within the tolerance\n")
+    print("| code | threads | steps | dt range s | error | within | simulated s per wall s | "
+          "LAMMPS / this | LIGGGHTS / this | this / LAMMPS | this / LIGGGHTS |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for code in autos:
+        out, series = runs[code][1.0]
+        keys = read_keys(out)
+        if not series or "top_z_m" not in keys:
+            print(f"| {code} | - | - | - | failed | no | - | - | - | - | - |")
+            continue
+        err = sweep_error(timed_windows(read_timed_series(series), args.interval, tend), ref,
+                          args.from_time)
+        ok = "yes" if err <= args.tolerance else "no"
+        for threads in sorted(trust):
+            if (code, threads) not in best:
+                continue
+            wall, _, steps = best[(code, threads)]
+            v = tend / wall
+            peers = [trust[threads].get(p) for p in ("lammps", "liggghts")]
+            cells = [f"{p[1] / v:.2f}" if p else "-" for p in peers]
+            cells += [f"**{v / p[1]:.2f}**" if p else "-" for p in peers]
+            print(f"| {code} | {threads} | {steps} | {keys.get('dt_range_s', '-')} | {err:.2e} | "
+                  f"{ok} | {v:.3f} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--skin M] [--threads N]
 ///                        [--duration S]
 ///                        [--fresh [--integrator gear5|verlet]] [--series FILE]
+///                        [--auto [--contact-resolution N]]
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--export-lammps DIR]
 ///                        [--export-liggghts DIR] [--radius-types K] [--mean-wall-stiffness]
 ///
@@ -50,6 +51,8 @@ struct Options {
   int radiusTypes = 10;
   bool meanWallStiffness = false;
   bool rebuildEveryStep = false;
+  bool automatic = false;          // time_step = "auto" (with --fresh)
+  double contactResolution = 10;   // its accuracy floor t_c / N
 };
 
 constexpr const char* kMakeCheckpoint =
@@ -140,6 +143,13 @@ int run(const Options& o) {
   Simulation sim = o.fresh ? withoutHistory(settled, o.integrator) : std::move(settled);
   if (o.dt) sim.setTimeStep(*o.dt);
   if (o.skin) sim.setSkin(*o.skin);
+  if (o.automatic) {
+    if (!o.fresh) throw ConfigError("--auto needs --fresh");
+    StepControl control;
+    control.automatic = true;
+    control.contactResolution = o.contactResolution;
+    sim.setStepControl(control);
+  }
   sim.setThreads(o.threads);
   studies::setRebuildEveryStep(sim, o.rebuildEveryStep);
 
@@ -150,14 +160,14 @@ int run(const Options& o) {
     if (!series) throw std::runtime_error("cannot write " + o.series.string());
     series.precision(10);
     series << "step,time_s,top_z_m,s11_eq2_Pa,s22_eq2_Pa,s33_eq2_Pa\n";
-    // After every step: the stage clock is n·dt (stage.cpp), the reactions are this step's.
+    // After every step: the stage clock (n·Δt at a fixed step, stage.cpp; the sum of the
+    // steps at "auto"), the reactions are this step's.
     observer.progressSteps = 1;
     std::uint64_t n = 0;
-    const double dt = sim.config().timeStep;
-    observer.onProgress = [&, n, dt](const Simulation& s, const StageSpec&) mutable {
+    observer.onProgress = [&, n](const Simulation& s, const StageSpec&) mutable {
       ++n;
       const Vec3 eq2 = eq2Now(s);
-      series << n << ',' << double(n) * dt << ',' << s.walls()[s.findWall("top")].point.z() << ','
+      series << n << ',' << s.time() << ',' << s.walls()[s.findWall("top")].point.z() << ','
              << eq2.x() << ',' << eq2.y() << ',' << eq2.z() << '\n';
     };
   }
@@ -175,6 +185,8 @@ int run(const Options& o) {
   std::printf("history = %s\n", o.fresh ? "dropped (--fresh)" : "from the checkpoint");
   std::printf("particles = %.0f\n", n);
   std::printf("dt_s = %.9g\n", sim.config().timeStep);
+  std::printf("step_control = %s\n", o.automatic ? "auto" : "fixed");
+  std::printf("dt_range_s = %.9g %.9g\n", sim.counters().smallestStep, sim.counters().largestStep);
   std::printf("threads = %d\n", o.threads);
   std::printf("skin_m = %.6g\n", sim.skin());
   std::printf("steps = %llu\n", static_cast<unsigned long long>(result.steps));
@@ -210,6 +222,11 @@ int main(int argc, char** argv) {
                  "gear5 or verlet (with --fresh; default: the checkpoint's)")
       ->check(CLI::IsMember({"gear5", "verlet"}));
   app.add_option("--series", o.series, "Write sigma of Eq. (2) after every step to this CSV");
+  app.add_flag("--auto", o.automatic,
+               "time_step = \"auto\": the step chosen from the contact network (with --fresh)");
+  app.add_option("--contact-resolution", o.contactResolution,
+                 "With --auto: the accuracy floor, at most t_c / N (default 10)")
+      ->check(CLI::Range(1.0, 1e6));
   app.add_option("--export-lammps", o.exportLammps,
                  "Write LAMMPS inputs to this folder, run nothing");
   app.add_option("--export-liggghts", o.exportLiggghts,

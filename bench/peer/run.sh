@@ -94,6 +94,12 @@ run_code() {
       "$BIN" "${G[@]}" --fresh --integrator "${code#granular-}" --threads "$threads" --dt "$dt" \
         --skin "$SKIN" \
         --duration "$TEND" "${series[@]}" ;;
+    granular-auto)     # time_step = "auto", Verlet, the default accuracy floor t_c/10
+      "$BIN" "${G[@]}" --fresh --integrator verlet --auto --threads "$threads" --skin "$SKIN" \
+        --duration "$TEND" "${series[@]}" ;;
+    granular-auto-n1)  # time_step = "auto", Verlet, no accuracy floor: the network's step
+      "$BIN" "${G[@]}" --fresh --integrator verlet --auto --contact-resolution 1 \
+        --threads "$threads" --skin "$SKIN" --duration "$TEND" "${series[@]}" ;;
     granular-history)  # the real paper run: contact history and Gear derivatives kept
       "$BIN" "${G[@]}" --threads "$threads" --dt "$dt" --skin "$SKIN" --duration "$TEND" \
         "${series[@]}" ;;
@@ -117,7 +123,7 @@ wait_quiet() {
   echo "$1: $(uptime)" >> "$OUT/timing/load.txt"
 }
 
-CODES=(granular-gear5 granular-verlet)
+CODES=(granular-gear5 granular-verlet granular-auto granular-auto-n1)
 [[ $HAVE_LMP == 1 ]] && CODES+=(lammps lammps-meanwall)
 [[ $HAVE_LIG == 1 ]] && CODES+=(liggghts)
 
@@ -142,6 +148,9 @@ for code in "${SWEEP[@]}"; do
     run_code "$code" 1 "$dt" 1 "$OUT/sweep/${code}_x${factor}"
   done
 done
+# The automatic steps: one run each (they choose their steps), compared in their own table.
+run_code granular-auto 1 "$DT" 1 "$OUT/sweep/granular-auto_x1"
+run_code granular-auto-n1 1 "$DT" 1 "$OUT/sweep/granular-auto-n1_x1"
 # At the paper's step only: the run with the checkpoint's history, LAMMPS with one wall set.
 run_code granular-history 1 "$DT" 1 "$OUT/sweep/granular-history_x1"
 [[ $HAVE_LMP == 1 ]] && run_code lammps-meanwall 1 "$DT" 1 "$OUT/sweep/lammps-meanwall_x1"
