@@ -85,6 +85,7 @@ struct UiState {
   Material material;           ///< being edited
   double topWallVelocity = 0;
   int integrator = 0;  ///< 0 Gear5, 1 Verlet
+  bool automaticStep = false;
   double timeStep = 0;
   int stepsPerUpdate = 20;
   bool synced = false;  ///< edits initialised from the run
@@ -117,6 +118,7 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
     ui.topWallVelocity = snap.topWallVelocity;
     ui.integrator = snap.integrator == Integrator::Gear5 ? 0 : 1;
     ui.timeStep = snap.timeStep;
+    ui.automaticStep = snap.automaticStep;
     ui.stepsPerUpdate = snap.stepsPerUpdate;
     ui.synced = true;
   }
@@ -184,11 +186,16 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   ImGui::Separator();
   const char* integrators[] = {"gear5", "verlet"};
   ImGui::Combo("integrator", &ui.integrator, integrators, 2);
-  ImGui::InputDouble("dt [s]", &ui.timeStep, 0.0, 0.0, "%.3e");
-  ImGui::Text("limit %.3e s", snap.maxTimeStep);
+  ImGui::Checkbox("dt auto", &ui.automaticStep);
+  if (!ui.automaticStep) ImGui::InputDouble("dt [s]", &ui.timeStep, 0.0, 0.0, "%.3e");
+  if (snap.automaticStep) {
+    ImGui::Text("dt %.3e s (%.3e to %.3e so far)", snap.timeStep, snap.smallestStep,
+                snap.largestStep);
+  }
+  ImGui::Text("network allows %.3e s", snap.maxTimeStep);
   if (ImGui::Button("Apply integrator")) {
     runner.setIntegrator(ui.integrator == 0 ? Integrator::Gear5 : Integrator::VelocityVerlet,
-                         ui.timeStep);
+                         ui.timeStep, ui.automaticStep);
   }
   ImGui::Separator();
   ImGui::Text("Colour by");

@@ -138,17 +138,31 @@ void SimRunner::setTopWallVelocity(double velocity) {
     if (top >= 0) sim_->setWallVelocity(std::size_t(top), Vec3(0.0, 0.0, velocity));
   });
 }
-void SimRunner::setIntegrator(Integrator integrator, double timeStep) {
-  send([this, integrator, timeStep] {
-    // Check both against the new integrator's limit before changing either.
-    const double limit = maxStableStep(sim_->contactScale(), integrator);
-    if (!(timeStep > 0.0 && timeStep <= limit)) {
-      throw ConfigError("time step " + std::to_string(timeStep) + " s is outside (0, " +
-                        std::to_string(limit) + "] s, the stable limit of this integrator");
+void SimRunner::setIntegrator(Integrator integrator, double timeStep, bool automatic) {
+  send([this, integrator, timeStep, automatic] {
+    StepControl control = sim_->config().step;
+    if (automatic) {
+      sim_->setIntegrator(integrator);  // the step is re-chosen for it
+      control.automatic = true;
+      sim_->setStepControl(control);
+      return;
     }
-    if (timeStep < sim_->config().timeStep) sim_->setTimeStep(timeStep);
-    sim_->setIntegrator(integrator);
-    sim_->setTimeStep(timeStep);
+    if (!(timeStep > 0.0)) throw ConfigError("time step must be > 0");
+    // The engine refuses a step above the network's (or, with no contact, the binary limit)
+    // with the reason: change nothing unless the step suits the new integrator.
+    control.automatic = false;
+    const Integrator before = sim_->config().integrator;
+    const double stepBefore = sim_->config().timeStep;
+    sim_->setStepControl(control);
+    if (timeStep < stepBefore) sim_->setTimeStep(timeStep);
+    try {
+      sim_->setIntegrator(integrator);
+      sim_->setTimeStep(timeStep);
+    } catch (...) {
+      sim_->setIntegrator(before);
+      sim_->setTimeStep(stepBefore);
+      throw;
+    }
   });
 }
 void SimRunner::saveCheckpoint(const std::filesystem::path& file) {
@@ -272,7 +286,12 @@ void SimRunner::publish() {
   s.material = sim.config().material;
   s.integrator = sim.config().integrator;
   s.timeStep = sim.config().timeStep;
-  s.maxTimeStep = maxStableStep(sim.contactScale(), sim.config().integrator);
+  const StepCheck& check = sim.stepCheck();
+  s.maxTimeStep = check.contacts > 0 ? check.networkStep
+                                     : maxStableStep(sim.contactScale(), sim.config().integrator);
+  s.automaticStep = sim.config().step.automatic;
+  s.smallestStep = sim.counters().smallestStep;
+  s.largestStep = sim.counters().largestStep;
   s.topWallVelocity = topWallVelocity_;
   s.stepsPerUpdate = stepsPerUpdate_;
   s.message = message_;

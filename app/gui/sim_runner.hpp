@@ -54,9 +54,13 @@ struct Snapshot {
   double energyBalanceError = 0;
   Material material;
   Integrator integrator = Integrator::Gear5;
-  double timeStep = 0;         ///< [s]
-  double maxTimeStep = 0;      ///< the core's limit for this integrator [s]
-  double topWallVelocity = 0;  ///< vertical, of stage 2 [m/s]
+  double timeStep = 0;  ///< [s]
+  /// The step the contact network allows (at the last check; with no contact yet, the
+  /// binary limit for this integrator) [s].
+  double maxTimeStep = 0;
+  bool automaticStep = false;                ///< time_step = "auto"
+  double smallestStep = 0, largestStep = 0;  ///< the steps taken since the start [s]
+  double topWallVelocity = 0;                ///< vertical, of stage 2 [m/s]
   int stepsPerUpdate = 20;
   LiveSeries series;
   std::string message;  ///< the last refusal or error, for the status line
@@ -81,7 +85,9 @@ class SimRunner {
   void setStepsPerUpdate(int steps);
   void setMaterial(const Material& material);
   void setTopWallVelocity(double velocity);  ///< [m/s], negative moves it down
-  void setIntegrator(Integrator integrator, double timeStep);
+  /// The integrator and a fixed step (refused above what the contact network allows), or
+  /// with `automatic` the step chosen from the network (time_step = "auto").
+  void setIntegrator(Integrator integrator, double timeStep, bool automatic = false);
   void saveCheckpoint(const std::filesystem::path& file);
   void loadCheckpoint(const std::filesystem::path& file);
 

@@ -44,8 +44,10 @@ double contactGain(const ContactStiffness& k, const ContactBody& body, bool rota
   const double normal = k.normal / body.mass;
   if (!rotations) return std::sqrt(normal);
   const double kt = k.tangential, kr = k.rolling, m = body.mass, inertia = body.inertia;
-  // The 2×2 [[a, b], [b, c]]'s larger eigenvalue in closed form (at every check, per contact).
+  // The 2×2 [[a, b], [b, c]]'s larger eigenvalue in closed form (at every check, per contact);
+  // without rolling resistance it is a.
   const double a = kt * (1.0 / m + body.arm * body.arm / inertia);
+  if (kr == 0.0) return std::sqrt(std::max(normal, a));
   const double b = std::sqrt(kt * kr) * body.arm / inertia, c = kr / inertia;
   const double half = 0.5 * (a - c);
   const double tangent = 0.5 * (a + c) + std::sqrt(half * half + b * b);
@@ -117,6 +119,8 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   const double kappa = material.normalCoefficient();
   const bool rolling = RollingResistance::active(material);
   GainMatrix stiffness(p.size()), damping(p.size());
+  stiffness.links.reserve(s.neighbours.second.size());
+  damping.links.reserve(s.neighbours.second.size());
   NetworkFrequency out;
 
   auto body = [&](std::size_t i, double h) {

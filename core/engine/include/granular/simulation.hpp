@@ -47,7 +47,8 @@ enum class OnUnstable {
 /// How the engine chooses its time step (docs/physics.md §2.16). A fixed step is checked against
 /// the network's stable step (network_step.hpp) at the start and whenever the step is checked;
 /// an automatic one is re-chosen then. The step is checked when the neighbour list is rebuilt
-/// (at most every 10 steps) and at least every `recheckSteps` steps, never inside a step.
+/// (at most every 10 steps; a fixed step every 25) and at least every `recheckSteps` steps,
+/// never inside a step.
 struct StepControl {
   bool automatic = false;  ///< Δt chosen from the live contacts (time_step = "auto")
   /// Δt = safety × the network's stable step, (0, 1]. The bound on ω_max is above the exact
