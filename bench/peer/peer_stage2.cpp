@@ -51,8 +51,8 @@ struct Options {
   int radiusTypes = 10;
   bool meanWallStiffness = false;
   bool rebuildEveryStep = false;
-  bool automatic = false;          // time_step = "auto" (with --fresh)
-  double contactResolution = 10;   // its accuracy floor t_c / N
+  bool automatic = false;         // time_step = "auto" (with --fresh)
+  double contactResolution = 10;  // its accuracy floor t_c / N
 };
 
 constexpr const char* kMakeCheckpoint =
