@@ -90,6 +90,8 @@ struct Plan {
   double impactTiming = 0;              ///< wall time spent repeating each impact, at least [s]
   double stageDuration = 0;             ///< stage 2 simulated [s] (the paper's: 1)
   double errorFrom = 0.1;               ///< σ33 errors count from this stage-2 time on [s]
+  /// Stage 2 at time_step = "auto" (velocity Verlet): its accuracy floors t_c/N [-].
+  std::vector<double> autoResolutions;
   std::vector<const PaperReference*> stageCases;  ///< μ = 0.3 first: the main case
 };
 
@@ -102,6 +104,7 @@ Plan makePlan(bool quick) {
     p.impactTiming = 0.01;
     p.stageDuration = 0.3;
     p.stageCases = {&kPaperCases[1]};
+    p.autoResolutions = {10};
   } else {
     // The damped Hooke restitution converges at first order only: t_c/400 shows where it
     // reaches 0.1 %. Stage 2 costs 10⁴ times more per step and needs no such fine step.
@@ -114,6 +117,7 @@ Plan makePlan(bool quick) {
     p.impactTiming = 0.2;
     p.stageDuration = 1.0;
     p.stageCases = {&kPaperCases[1], &kPaperCases[0]};
+    p.autoResolutions = {10, 1};
   }
   return p;
 }
@@ -148,7 +152,8 @@ struct Row {
   Integrator integrator = Integrator::Gear5;
   Role role = Role::Run;
   double contactDuration = 0;  ///< t_c [s]
-  double fraction = 0;         ///< t_c/Δt [-]
+  double fraction = 0;         ///< t_c/Δt [-]; with `automatic`, the floor's N
+  bool automatic = false;      ///< time_step = "auto" (stage 2): Δt is the largest step taken
   double timeStep = 0;         ///< Δt [s]
   double wallSeconds = 0;      ///< per impact, or per stage-2 run [s]
   long repetitions = 1;        ///< impacts timed per row
@@ -320,21 +325,26 @@ StageCase loadStageCase(const PaperReference& paper, const Options& options) {
 /// divides the interval) what differs between runs is the integration alone.
 class IntervalMeans {
  public:
-  explicit IntervalMeans(const Simulation& sim) : previous_(now(sim)), lastStep_(sim.stepCount()) {}
+  explicit IntervalMeans(const Simulation& sim)
+      : previous_(now(sim)), lastStep_(sim.stepCount()), lastTime_(sim.time()) {}
 
   /// Adds the step just taken (once, however often it is called for that step).
   void advance(const Simulation& sim) {
     if (sim.stepCount() == lastStep_) return;
     lastStep_ = sim.stepCount();
+    // Weighted by the step just taken: at time_step = "auto" the steps differ.
+    const double dt = sim.time() - lastTime_;
+    lastTime_ = sim.time();
     const Point current = now(sim);
-    sum_.sums.eq1 += 0.5 * (previous_.sums.eq1 + current.sums.eq1);
+    sum_.sums.eq1 += 0.5 * dt * (previous_.sums.eq1 + current.sums.eq1);
     sum_.sums.sideFrictionMoment +=
-        0.5 * (previous_.sums.sideFrictionMoment + current.sums.sideFrictionMoment);
+        0.5 * dt * (previous_.sums.sideFrictionMoment + current.sums.sideFrictionMoment);
     sum_.reactions.resize(current.reactions.size(), Vec3::Zero());
     for (std::size_t w = 0; w < current.reactions.size(); ++w) {
-      sum_.reactions[w] += 0.5 * (previous_.reactions[w] + current.reactions[w]);
+      sum_.reactions[w] += 0.5 * dt * (previous_.reactions[w] + current.reactions[w]);
     }
     previous_ = current;
+    duration_ += dt;
     ++steps_;
   }
 
@@ -344,12 +354,13 @@ class IntervalMeans {
     advance(sim);
     Point mean = steps_ == 0 ? previous_ : sum_;
     if (steps_ > 0) {
-      mean.sums.eq1 /= double(steps_);
-      mean.sums.sideFrictionMoment /= double(steps_);
-      for (Vec3& r : mean.reactions) r /= double(steps_);
+      mean.sums.eq1 /= duration_;
+      mean.sums.sideFrictionMoment /= duration_;
+      for (Vec3& r : mean.reactions) r /= duration_;
     }
     sum_ = Point{};
     steps_ = 0;
+    duration_ = 0;
     return measureBox(sim, mean.reactions, &mean.sums);
   }
 
@@ -366,7 +377,9 @@ class IntervalMeans {
   Point previous_;  ///< at the last step taken
   Point sum_;       ///< trapezoid sums of the current interval
   std::uint64_t lastStep_ = 0;
+  double lastTime_ = 0;  ///< the clock at the last step taken [s]
   long steps_ = 0;
+  double duration_ = 0;  ///< of the current interval so far [s]
 };
 
 struct StageRun {
@@ -375,19 +388,28 @@ struct StageRun {
 };
 
 /// Stage 2 of `c` from its settled checkpoint (restored afresh), with `integrator` at
-/// Δt = t_c/fraction, t_c the stiffest contact's duration.
-StageRun runStageCase(const StageCase& c, Integrator integrator, double fraction,
-                      const Plan& plan) {
+/// Δt = t_c/fraction, t_c the stiffest contact's duration; with `automatic`, at
+/// time_step = "auto" with the accuracy floor t_c/fraction.
+StageRun runStageCase(const StageCase& c, Integrator integrator, double fraction, const Plan& plan,
+                      bool automatic = false) {
   Simulation sim = readCheckpoint(c.checkpoint, c.fingerprint);
   sim.setIntegrator(integrator);
   sim.setThreads(1);
   const double tc = sim.contactScale().duration;
-  // A whole number of steps per output interval: every run then averages over exactly the same
-  // time windows, and what differs between runs is the integration alone.
-  const double interval = c.output.interval;
-  const double perInterval = std::ceil(interval * fraction / tc);
-  sim.setTimeStep(std::min(interval / perInterval,
-                           maxStableStep(sim.contactScale(), integrator) * kInsideLimit));
+  if (automatic) {
+    // The stage lands its steps on every output interval itself.
+    StepControl control;
+    control.automatic = true;
+    control.contactResolution = fraction;
+    sim.setStepControl(control);
+  } else {
+    // A whole number of steps per output interval: every run then averages over exactly the
+    // same time windows, and what differs between runs is the integration alone.
+    const double interval = c.output.interval;
+    const double perInterval = std::ceil(interval * fraction / tc);
+    sim.setTimeStep(std::min(interval / perInterval,
+                             maxStableStep(sim.contactScale(), integrator) * kInsideLimit));
+  }
   StageSpec stage = c.stage;
   stage.end.maxTime = plan.stageDuration;
 
@@ -418,7 +440,8 @@ StageRun runStageCase(const StageCase& c, Integrator integrator, double fraction
   row.integrator = integrator;
   row.contactDuration = tc;
   row.fraction = fraction;
-  row.timeStep = sim.config().timeStep;
+  row.automatic = automatic;
+  row.timeStep = automatic ? sim.counters().largestStep : sim.config().timeStep;
   row.wallSeconds = secondsSince(start) - measuring;
   row.steps = result.steps;
   row.sigma33Eq1 = run.eq1.value.back();
@@ -439,16 +462,20 @@ std::vector<Row> stageRows(const std::vector<StageCase>& cases, const Plan& plan
         if (allowed(i, f)) runs.push_back(runStageCase(c, i, f, plan));
       }
     }
+    for (double n : plan.autoResolutions) {
+      runs.push_back(runStageCase(c, Integrator::VelocityVerlet, n, plan, true));
+    }
     const StageRun& ref = runs.front();  // Gear5 at the reference step
     for (StageRun& r : runs) {
       r.row.eq1Error = maxRelativeDeviation(r.eq1, ref.eq1, plan.errorFrom);
       r.row.eq2Error = maxRelativeDeviation(r.eq2, ref.eq2, plan.errorFrom);
     }
     for (StageRun& r : runs) {
-      std::cout << r.row.caseName << ' ' << integratorName(r.row.integrator) << " t_c/"
-                << r.row.fraction << ": " << format("%.2f", r.row.wallSeconds)
-                << " s, sigma33 error Eq. (1) " << format("%.2e", r.row.eq1Error) << ", Eq. (2) "
-                << format("%.2e", r.row.eq2Error) << std::endl;
+      std::cout << r.row.caseName << ' ' << integratorName(r.row.integrator)
+                << (r.row.automatic ? " auto, at most t_c/" : " t_c/") << r.row.fraction << ": "
+                << format("%.2f", r.row.wallSeconds) << " s, sigma33 error Eq. (1) "
+                << format("%.2e", r.row.eq1Error) << ", Eq. (2) " << format("%.2e", r.row.eq2Error)
+                << std::endl;
       rows.push_back(r.row);
       series.push_back(std::move(r));
     }
@@ -465,7 +492,7 @@ const Row* cheapestWithin(const std::vector<Row>& rows, const std::string& caseN
                           Integrator integrator, double target) {
   std::vector<const Row*> runs;
   for (const Row& r : rows) {
-    if (r.caseName == caseName && r.integrator == integrator && r.role == Role::Run)
+    if (r.caseName == caseName && r.integrator == integrator && r.role == Role::Run && !r.automatic)
       runs.push_back(&r);
   }
   std::sort(runs.begin(), runs.end(),
@@ -542,14 +569,14 @@ void writeRowsCsv(const std::filesystem::path& path, const std::vector<Row>& row
          "duration_error_closed_form,s33_eq1_final_Pa,s33_eq1_error,s33_eq2_final_Pa,"
          "s33_eq2_error\n";
   for (const Row& r : rows) {
-    out << r.caseName << ',' << integratorName(r.integrator) << ',' << roleName(r.role) << ','
-        << cell(r.contactDuration) << ',' << cell(r.timeStep) << ','
-        << cell(r.timeStep / r.contactDuration) << ',' << cell(r.wallSeconds) << ','
-        << r.repetitions << ',' << r.steps << ',' << cell(r.restitution) << ','
-        << cell(r.restitutionError) << ',' << cell(r.restitutionTheoryError) << ','
-        << cell(r.duration) << ',' << cell(r.durationError) << ',' << cell(r.durationTheoryError)
-        << ',' << cell(r.sigma33Eq1) << ',' << cell(r.eq1Error) << ',' << cell(r.sigma33Eq2) << ','
-        << cell(r.eq2Error) << '\n';
+    out << r.caseName << ',' << integratorName(r.integrator) << ','
+        << (r.automatic ? "auto" : roleName(r.role)) << ',' << cell(r.contactDuration) << ','
+        << cell(r.timeStep) << ',' << cell(r.timeStep / r.contactDuration) << ','
+        << cell(r.wallSeconds) << ',' << r.repetitions << ',' << r.steps << ','
+        << cell(r.restitution) << ',' << cell(r.restitutionError) << ','
+        << cell(r.restitutionTheoryError) << ',' << cell(r.duration) << ',' << cell(r.durationError)
+        << ',' << cell(r.durationTheoryError) << ',' << cell(r.sigma33Eq1) << ','
+        << cell(r.eq1Error) << ',' << cell(r.sigma33Eq2) << ',' << cell(r.eq2Error) << '\n';
   }
   writeTextFile(path, out.str());
 }
@@ -560,9 +587,9 @@ void writeSeriesCsv(const std::filesystem::path& path, const std::vector<StageRu
   for (const StageRun& run : series) {
     const Row& row = run.row;
     for (std::size_t k = 0; k < run.eq1.time.size(); ++k) {
-      out << row.caseName << ',' << integratorName(row.integrator) << ',' << row.fraction << ','
-          << csvNumber(run.eq1.time[k]) << ',' << csvNumber(run.eq1.value[k]) << ','
-          << csvNumber(run.eq2.value[k]) << '\n';
+      out << row.caseName << ',' << integratorName(row.integrator) << ','
+          << (row.automatic ? "auto_" : "") << row.fraction << ',' << csvNumber(run.eq1.time[k])
+          << ',' << csvNumber(run.eq1.value[k]) << ',' << csvNumber(run.eq2.value[k]) << '\n';
     }
   }
   writeTextFile(path, out.str());
@@ -614,15 +641,18 @@ std::string markdown(const std::vector<Row>& rows, const Plan& plan,
       << plan.stageReference << "; error = max over t ∈ [" << plan.errorFrom << ", "
       << plan.stageDuration << "] s of |σ33 − σ33,ref| / |σ33,ref| (0.01 s interval means, "
       << "trapezoid rule on every step); Δt rounded down so that 0.01 s is a whole number of "
-      << "steps (" << roundedStepExample(rows) << "); wall time of the stepping, one thread.\n\n";
+      << "steps (" << roundedStepExample(rows) << "); wall time of the stepping, one thread. "
+      << "Rows \"auto\": time_step = \"auto\" with velocity Verlet and the accuracy floor named "
+      << "(its steps land on every 0.01 s; Δt is the largest it took).\n\n";
   out << "| case | integrator | Δt | Δt [s] | steps | wall [s] | σ33(t_end) Eq. (1) [Pa] | "
          "σ33 error Eq. (1) | σ33(t_end) Eq. (2) [Pa] | σ33 error Eq. (2) |\n"
          "|---|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const Row& r : rows) {
     if (r.impact()) continue;
-    out << "| " << r.caseName << " | " << integratorLabel(r.integrator) << " | t_c/" << r.fraction
-        << refTag(r) << " | " << format("%.3g", r.timeStep) << " | " << r.steps << " | "
-        << format("%.2f", r.wallSeconds) << " | " << format("%.1f", r.sigma33Eq1) << " | "
+    out << "| " << r.caseName << " | " << integratorLabel(r.integrator)
+        << (r.automatic ? " | auto, at most t_c/" : " | t_c/") << r.fraction << refTag(r) << " | "
+        << format("%.3g", r.timeStep) << " | " << r.steps << " | " << format("%.2f", r.wallSeconds)
+        << " | " << format("%.1f", r.sigma33Eq1) << " | "
         << (r.role == Role::Reference ? "–" : sci(r.eq1Error)) << " | "
         << format("%.1f", r.sigma33Eq2) << " | "
         << (r.role == Role::Reference ? "–" : sci(r.eq2Error)) << " |\n";
@@ -671,7 +701,8 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
       bool above;  ///< above the point (else below)
     };
     std::vector<Label> labels;
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 3; ++i) {  // Gear5, velocity Verlet, velocity Verlet at "auto"
+      if (i == 2 && impact) continue;
       for (int q = 0; q < 2; ++q) {
         render::Series s;
         s.color = render::categorical(i);
@@ -679,9 +710,14 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
         s.dash = q == 0 ? render::Series::Solid : render::Series::Dashed;
         s.marker = q == 0 ? render::Marker::Circle : render::Marker::Square;
         s.markerSize = 7.0;
-        s.label = std::string(integratorLabel(kIntegrators[i])) + ", " + quantity[q];
+        const bool automatic = i == 2;
+        const Integrator integrator = automatic ? Integrator::VelocityVerlet : kIntegrators[i];
+        s.label = std::string(integratorLabel(integrator)) + (automatic ? " auto" : "") + ", " +
+                  quantity[q];
         for (const Row& r : rows) {
-          if (r.caseName != c || r.integrator != kIntegrators[i] || r.role != Role::Run) continue;
+          if (r.caseName != c || r.integrator != integrator || r.role != Role::Run ||
+              r.automatic != automatic)
+            continue;
           const double e = q == 0 ? (impact ? r.restitutionError : r.eq1Error)
                                   : (impact ? r.durationError : r.eq2Error);
           if (!(e > 0)) continue;  // zero error (identical run) has no logarithm
@@ -691,8 +727,9 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
             // A stage-2 error of several per cent is no truncation error: the bed blew up.
             const bool blewUp = !impact && r.worstError() > 0.05;
             labels.push_back({s.x.back(), s.y.back(),
-                              "1/" + format("%g", r.fraction) + (blewUp ? " unstable" : ""),
-                              s.color, i == 0});
+                              (automatic ? "auto ≤1/" : "1/") + format("%g", r.fraction) +
+                                  (blewUp ? " unstable" : ""),
+                              s.color, i != 1});
           }
         }
         p.series.push_back(s);
