@@ -37,9 +37,15 @@ constexpr double kG = 9.81;
 struct IntegratorCase {
   Integrator integrator;
   const char* name;
+  bool automatic = false;  ///< time_step = "auto"
 };
 const IntegratorCase kIntegrators[] = {{Integrator::Gear5, "gear5"},
                                        {Integrator::VelocityVerlet, "verlet"}};
+/// Both integrators at a fixed step and at time_step = "auto".
+const IntegratorCase kSteppings[] = {{Integrator::Gear5, "gear5", false},
+                                     {Integrator::VelocityVerlet, "verlet", false},
+                                     {Integrator::Gear5, "gear5 auto", true},
+                                     {Integrator::VelocityVerlet, "verlet auto", true}};
 
 /// splitmix64 in [0, 1): reproducible on every platform.
 class Uniform {
@@ -346,53 +352,58 @@ TEST(HardCase, SizeRatioTenContactSearchBalanceAndStressIdentity) {
   //     V σ(Eq. 1) = Σ_wall contacts F ⊗ x_c + Σ_p m_p g ⊗ x_p to the same 1e-3.
   // E × 10 keeps the overlaps under a large sphere (its weight on four small ones) near 1 % of
   // the small radius; the paper's soft material would let it sink by 13 %.
-  SimulationConfig cfg;
-  cfg.material.youngModulus *= 10.0;
-  cfg.material.shearModulus *= 10.0;
-  cfg.material.friction = 0.3;
-  cfg.material.normalDamping = 8000.0;
-  cfg.material.tangentialDamping = 100.0;
-  cfg.integrator = Integrator::VelocityVerlet;
-  cfg.threads = 1;
-  cfg.timeStep = stiffestContact(cfg.material, kSmall, 1.0).duration / 20;
-  Simulation sim = bimodalBed(cfg);
-  ASSERT_EQ(sim.particles().size(), 202u);
-  const Particles& p = sim.particles();
-  double weight = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) weight += p.mass[i] * kG;
+  // At a fixed step (t_c/20) and at time_step = "auto".
+  for (bool automatic : {false, true}) {
+    SCOPED_TRACE(automatic ? "auto" : "fixed");
+    SimulationConfig cfg;
+    cfg.material.youngModulus *= 10.0;
+    cfg.material.shearModulus *= 10.0;
+    cfg.material.friction = 0.3;
+    cfg.material.normalDamping = 8000.0;
+    cfg.material.tangentialDamping = 100.0;
+    cfg.integrator = Integrator::VelocityVerlet;
+    cfg.threads = 1;
+    cfg.timeStep = stiffestContact(cfg.material, kSmall, 1.0).duration / 20;
+    cfg.step.automatic = automatic;
+    Simulation sim = bimodalBed(cfg);
+    ASSERT_EQ(sim.particles().size(), 202u);
+    const Particles& p = sim.particles();
+    double weight = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) weight += p.mass[i] * kG;
 
-  while (sim.time() < 0.005) sim.step();  // the large spheres land on the small ones
-  ASSERT_GT(sim.kineticEnergy(), 1e-8);
-  expectContactsMatchBruteForce(sim, "landing", 8);
-  while (sim.time() < 0.8) sim.step();
-  expectContactsMatchBruteForce(sim, "at rest", 8);
-  // Kinetic energy of the whole mass moving at 1 mm/s: a bed at rest is far below it.
-  ASSERT_LT(sim.kineticEnergy(), 0.5 * (weight / kG) * 1e-6);
+    while (sim.time() < 0.005) sim.step();  // the large spheres land on the small ones
+    ASSERT_GT(sim.kineticEnergy(), 1e-8);
+    expectContactsMatchBruteForce(sim, "landing", 8);
+    while (sim.time() < 0.8) sim.step();
+    expectContactsMatchBruteForce(sim, "at rest", 8);
+    // Kinetic energy of the whole mass moving at 1 mm/s: a bed at rest is far below it.
+    ASSERT_LT(sim.kineticEnergy(), 0.5 * (weight / kG) * 1e-6);
 
-  Vec3 reactions = Vec3::Zero();
-  for (const Wall& w : sim.walls()) reactions += w.reaction;
-  EXPECT_NEAR(reactions.z(), -weight, 1e-3 * weight);  // pushed down by the weight
-  EXPECT_NEAR(reactions.x(), 0.0, 1e-3 * weight);
-  EXPECT_NEAR(reactions.y(), 0.0, 1e-3 * weight);
-  const BoxStress box = measureBox(sim);
-  EXPECT_LT(std::abs(box.balanceError), 1e-3);
+    Vec3 reactions = Vec3::Zero();
+    for (const Wall& w : sim.walls()) reactions += w.reaction;
+    EXPECT_NEAR(reactions.z(), -weight, 1e-3 * weight);  // pushed down by the weight
+    EXPECT_NEAR(reactions.x(), 0.0, 1e-3 * weight);
+    EXPECT_NEAR(reactions.y(), 0.0, 1e-3 * weight);
+    const BoxStress box = measureBox(sim);
+    EXPECT_LT(std::abs(box.balanceError), 1e-3);
 
-  const double volume = kBoxX * kBoxY * 0.11;
-  const Mat3 lhs = volume * volumeAveragedStress(sim, volume);
-  Mat3 walls = Mat3::Zero();
-  sim.forEachContact([&](const ContactView& c) {
-    if (c.isWall()) walls += c.force * c.point.transpose();
-  });
-  Mat3 exact = walls, statics = walls;
-  const std::vector<Vec3> net = sim.netContactForces();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    exact -= net[i] * p.position[i].transpose();
-    statics += p.mass[i] * cfg.gravity * p.position[i].transpose();
+    const double volume = kBoxX * kBoxY * 0.11;
+    const Mat3 lhs = volume * volumeAveragedStress(sim, volume);
+    Mat3 walls = Mat3::Zero();
+    sim.forEachContact([&](const ContactView& c) {
+      if (c.isWall()) walls += c.force * c.point.transpose();
+    });
+    Mat3 exact = walls, statics = walls;
+    const std::vector<Vec3> net = sim.netContactForces();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      exact -= net[i] * p.position[i].transpose();
+      statics += p.mass[i] * cfg.gravity * p.position[i].transpose();
+    }
+    const double scale = lhs.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0.0);
+    EXPECT_LT((lhs - exact).cwiseAbs().maxCoeff(), 1e-11 * scale) << lhs << "\n\n" << exact;
+    EXPECT_LT((lhs - statics).cwiseAbs().maxCoeff(), 1e-3 * scale) << lhs << "\n\n" << statics;
   }
-  const double scale = lhs.cwiseAbs().maxCoeff();
-  ASSERT_GT(scale, 0.0);
-  EXPECT_LT((lhs - exact).cwiseAbs().maxCoeff(), 1e-11 * scale) << lhs << "\n\n" << exact;
-  EXPECT_LT((lhs - statics).cwiseAbs().maxCoeff(), 1e-3 * scale) << lhs << "\n\n" << statics;
 }
 
 // ---- 4. Long static hold ---------------------------------------------------------------------
@@ -478,13 +489,16 @@ TEST(HardCase, SettledBedHoldsStillForTenSeconds) {
 namespace {
 
 /// A sphere of the paper's material resting on the floor at its static overlap m g_n / k
-/// (so no normal oscillation starts), μ = 0.3, gravity `g`.
-Simulation sphereResting(const Vec3& g, Integrator integrator, double& radius) {
+/// (so no normal oscillation starts), μ = 0.3, gravity `g`; at half Gear5's binary limit, or
+/// with `automatic` at time_step = "auto".
+Simulation sphereResting(const Vec3& g, Integrator integrator, double& radius,
+                         bool automatic = false) {
   SimulationConfig cfg;
   cfg.material.friction = 0.3;
   cfg.integrator = integrator;
   cfg.gravity = g;
   cfg.threads = 1;
+  cfg.step.automatic = automatic;
   const double r = 0.03, m = sphereMass(r, cfg.material.density);
   cfg.timeStep = 0.5 * maxStableStep(stiffestContact(cfg.material, r, 1.0), Integrator::Gear5);
   const double overlap = m * -g.z() / (cfg.material.normalCoefficient() * r);
@@ -513,9 +527,9 @@ TEST(HardCase, SphereOnASlidingFloorSlipsThenRollsAtTwoSevenths) {
   // while capped. Delays: the tangential spring needs μ m g / k_t / V ≈ 0.6 ms to load (0.6 % of
   // t*); the lever arm R - h/2 changes I/(m a²) by h/R ≈ 0.3 %: 2 % on t*, 1 % on the rest.
   const double mu = 0.3, V = 1.0, tStar = 2.0 * V / (7.0 * mu * kG);
-  for (const IntegratorCase& c : kIntegrators) {
+  for (const IntegratorCase& c : kSteppings) {
     double r = 0;
-    Simulation sim = sphereResting(Vec3(0, 0, -kG), c.integrator, r);
+    Simulation sim = sphereResting(Vec3(0, 0, -kG), c.integrator, r, c.automatic);
     sim.setWallVelocity(0, Vec3(V, 0, 0));
     double slipStart = -1, slipEnd = -1, v1 = 0, v2 = 0;
     const double t1 = 0.2 * tStar, t2 = 0.8 * tStar;
@@ -559,13 +573,13 @@ TEST(HardCase, SphereOnATiltedFloorRollsBelowAndSlidesAboveTheCoulombLimit) {
   // limit μ F_n from both sides: there in time (slip, then stick at t*), here in the load
   // (stick below tan θ = 7μ/2, slip above).
   const double mu = 0.3;
-  for (const IntegratorCase& c : kIntegrators) {
+  for (const IntegratorCase& c : kSteppings) {
     for (double degrees : {35.0, 55.0}) {
       const double theta = degrees * kPi / 180.0;
       const bool rolls = std::tan(theta) < 3.5 * mu;
       double r = 0;
-      Simulation sim =
-          sphereResting(kG * Vec3(std::sin(theta), 0, -std::cos(theta)), c.integrator, r);
+      Simulation sim = sphereResting(kG * Vec3(std::sin(theta), 0, -std::cos(theta)), c.integrator,
+                                     r, c.automatic);
       while (sim.time() < 0.2) sim.step();
       const double vA = sim.particles().velocity[0].x(), tA = sim.time();
       const double slipA = slipVelocity(sim).x();
