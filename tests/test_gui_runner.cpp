@@ -155,6 +155,22 @@ TEST(GuiRunner, RefusedCommandsLeaveTheRunAsItWasAndSayWhy) {
   EXPECT_EQ(latest(runner).material.friction, 0.6);
 }
 
+TEST(GuiRunner, DtAutoChoosesTheStepFromTheNetworkAndShowsIt) {
+  // The "dt auto" box: the engine's time_step = "auto" for the run on screen, the step in use
+  // and its range shown; unticked, a fixed step again.
+  SimRunner runner(kDemo);
+  runner.setIntegrator(Integrator::VelocityVerlet, 0.0, true);
+  runner.step(400);
+  Snapshot s = latest(runner);
+  EXPECT_TRUE(s.automaticStep) << s.message;
+  EXPECT_EQ(s.integrator, Integrator::VelocityVerlet);
+  EXPECT_GT(s.smallestStep, 0.0);
+  EXPECT_LE(s.timeStep, s.maxTimeStep);  // within what the network allows
+  runner.setIntegrator(Integrator::VelocityVerlet, 0.5 * s.timeStep, false);
+  s = latest(runner);
+  EXPECT_FALSE(s.automaticStep) << s.message;
+}
+
 TEST(GuiRunner, SecondStagePlacesTheTopWallAndMovesItAtTheChosenSpeed) {
   SimRunner runner(kDemo);
   runner.setTopWallVelocity(-0.02);
