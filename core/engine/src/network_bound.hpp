@@ -1,13 +1,18 @@
 #pragma once
 /// The network's frequency bound on the engine's state (network_frequency.cpp), for the step
 /// control inside the step (simulation.cpp).
+#include <functional>
+
 #include "granular/network_frequency.hpp"
 #include "granular/network_step.hpp"
 
 namespace granular {
 
 struct SimulationState;
-NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead);
+/// With `enough`, the sweeps stop as soon as it holds for the bound so far (every sweep's bound
+/// is an upper bound: stopping early only gives away tightness that was not needed).
+NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
+                                       const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);
 
 }  // namespace granular

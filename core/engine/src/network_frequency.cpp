@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "force_pass.hpp"
@@ -75,43 +76,56 @@ struct GainMatrix {
     diagonal[j] += gj * gj;
     links.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), gi, gj});
   }
+};
 
-  /// The bound on λ_max after `sweeps` sweeps, and the row that sets it.
-  std::pair<double, std::size_t> bound(int sweeps) const {
-    const std::size_t n = diagonal.size();
-    auto multiply = [&](const std::vector<double>& x, std::vector<double>& y) {
-      for (std::size_t i = 0; i < n; ++i) y[i] = diagonal[i] * x[i];
-      for (const Link& l : links) {
-        y[l.i] += l.gi * l.gj * x[l.j];
-        y[l.j] += l.gi * l.gj * x[l.i];
-      }
-    };
-    // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
-    std::vector<double> x(n, 1.0), y(n, 0.0);
-    double best = 0.0;
-    std::size_t bestRow = 0;
-    for (int sweep = 0;; ++sweep) {
-      multiply(x, y);
-      double largest = 0.0;
-      std::size_t at = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double ratio = y[i] / x[i];
-        if (ratio > largest) largest = ratio, at = i;
-      }
-      if (sweep == 0 || largest < best) best = largest, bestRow = at;
-      if (sweep == sweeps) break;
-      double scale = 0.0;
-      for (double v : y) scale = std::max(scale, v);
-      if (!(scale > 0.0)) break;
-      for (std::size_t i = 0; i < n; ++i) x[i] = std::max(y[i] / scale, 1e-300);
-    }
-    return {best, bestRow};
+/// The Collatz–Wielandt bound of a gain matrix, tightened one power sweep at a time.
+class PowerBound {
+ public:
+  /// The bound of sweep 0 (Gershgorin's).
+  explicit PowerBound(const GainMatrix& m)
+      : m_(m), x_(m.diagonal.size(), 1.0), y_(m.diagonal.size(), 0.0) {
+    measure();
   }
+  /// One more sweep: x ← B x (scaled), and the bound again; the bound kept is the smallest.
+  void next() {
+    double scale = 0.0;
+    for (double v : y_) scale = std::max(scale, v);
+    if (!(scale > 0.0)) return;
+    for (std::size_t i = 0; i < x_.size(); ++i) x_[i] = std::max(y_[i] / scale, 1e-300);
+    measure();
+  }
+  double value() const { return best_; }  ///< the bound on λ_max
+  std::size_t row() const { return row_; }
+
+ private:
+  void measure() {
+    const std::size_t n = x_.size();
+    for (std::size_t i = 0; i < n; ++i) y_[i] = m_.diagonal[i] * x_[i];
+    for (const GainMatrix::Link& l : m_.links) {
+      y_[l.i] += l.gi * l.gj * x_[l.j];
+      y_[l.j] += l.gi * l.gj * x_[l.i];
+    }
+    // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
+    double largest = 0.0;
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ratio = y_[i] / x_[i];
+      if (ratio > largest) largest = ratio, at = i;
+    }
+    if (first_ || largest < best_) best_ = largest, row_ = at;
+    first_ = false;
+  }
+  const GainMatrix& m_;
+  std::vector<double> x_, y_;
+  double best_ = 0.0;
+  std::size_t row_ = 0;
+  bool first_ = true;
 };
 
 }  // namespace
 
-NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead) {
+NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
+                                       const std::function<bool(const NetworkFrequency&)>& enough) {
   const Particles& p = s.particles;
   const Material& material = s.config.material;
   const bool rotations = s.frictional;
@@ -218,16 +232,24 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     }
   }
 
-  const auto [omega2, row] = stiffness.bound(sweeps);
-  out.omegaMax = std::sqrt(omega2);
-  out.particle = row;
-  out.dampingRate = damping.bound(sweeps).first;
-  out.dampingRatio = out.omegaMax > 0.0 ? out.dampingRate / (2.0 * out.omegaMax) : 0.0;
+  PowerBound k(stiffness), c(damping);
+  auto fill = [&] {
+    out.omegaMax = std::sqrt(k.value());
+    out.particle = k.row();
+    out.dampingRate = c.value();
+    out.dampingRatio = out.omegaMax > 0.0 ? out.dampingRate / (2.0 * out.omegaMax) : 0.0;
+  };
+  fill();
+  for (int sweep = 0; sweep < sweeps && !(enough && enough(out)); ++sweep) {
+    k.next();
+    c.next();
+    fill();
+  }
   return out;
 }
 
 NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps, double lookahead) {
-  return networkFrequencyBound(SimulationAccess::state(sim), sweeps, lookahead);
+  return networkFrequencyBound(SimulationAccess::state(sim), sweeps, lookahead, nullptr);
 }
 
 }  // namespace granular

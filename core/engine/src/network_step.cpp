@@ -96,7 +96,7 @@ double stableOmegaDtOver(Integrator integrator, double zetaLow, double zetaHigh)
 }
 
 NetworkStep networkStableStep(const SimulationState& s, double lookahead) {
-  const NetworkFrequency f = networkFrequencyBound(s, 32, lookahead);
+  const NetworkFrequency f = networkFrequencyBound(s, 32, lookahead, nullptr);
   NetworkStep out;
   out.omegaMax = f.omegaMax;
   out.particle = f.particle;
