@@ -51,15 +51,7 @@ def read_series(path):
 
 def windows(rows, dt, interval, end):
     """Mean of each column over the steps n with n dt in ((k-1) I, k I], for complete windows."""
-    sums, counts = {}, {}
-    for step, values in rows.items():
-        k = math.ceil(step * dt / interval - 1e-6)
-        acc = sums.setdefault(k, [0.0] * len(values))
-        for i, v in enumerate(values):
-            acc[i] += v
-        counts[k] = counts.get(k, 0) + 1
-    last = math.floor(end / interval + 1e-6)
-    return {k * interval: [v / counts[k] for v in sums[k]] for k in sorted(sums) if 1 <= k <= last}
+    return timed_windows({step * dt: values for step, values in rows.items()}, interval, end)
 
 
 def read_timed_series(path):

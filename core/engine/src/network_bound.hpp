@@ -14,5 +14,8 @@ struct SimulationState;
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);
+/// The step a bound allows `integrator`: its interval over the bound's damping ratios, over
+/// ω_max (+∞ with no contacts).
+double networkStepOf(Integrator integrator, const NetworkFrequency& f);
 
 }  // namespace granular

@@ -95,6 +95,12 @@ double stableOmegaDtOver(Integrator integrator, double zetaLow, double zetaHigh)
   return smallest;
 }
 
+double networkStepOf(Integrator integrator, const NetworkFrequency& f) {
+  return f.omegaMax > 0.0
+             ? stableOmegaDtOver(integrator, f.smallestDampingRatio, f.dampingRatio) / f.omegaMax
+             : std::numeric_limits<double>::infinity();
+}
+
 NetworkStep networkStableStep(const SimulationState& s, double lookahead) {
   const NetworkFrequency f = networkFrequencyBound(s, 32, lookahead, nullptr);
   NetworkStep out;
@@ -102,9 +108,7 @@ NetworkStep networkStableStep(const SimulationState& s, double lookahead) {
   out.particle = f.particle;
   out.zeta = f.dampingRatio;
   out.smallestZeta = f.smallestDampingRatio;
-  out.dt = out.omegaMax > 0.0
-               ? stableOmegaDtOver(s.config.integrator, out.smallestZeta, out.zeta) / out.omegaMax
-               : std::numeric_limits<double>::infinity();
+  out.dt = networkStepOf(s.config.integrator, f);
   return out;
 }
 

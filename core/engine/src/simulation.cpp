@@ -79,44 +79,31 @@ double clock(const SimulationState& s) {
 /// The network's stable step for `integrator` now, counting the contacts that may form within
 /// two check intervals at step `dt` (docs/physics.md §2.16).
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
-  const double lookahead = 2.0 * static_cast<double>(s.config.step.recheckSteps) * dt;
-  // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
-  // fixed step, or the accuracy floor an automatic step cannot exceed anyway. An automatic step
-  // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
-  // fixed one 32 before it is judged above the network's.
-  auto allowed = [&](const NetworkFrequency& g) {
-    return g.omegaMax > 0.0
-               ? stableOmegaDtOver(integrator, g.smallestDampingRatio, g.dampingRatio) / g.omegaMax
-               : std::numeric_limits<double>::infinity();
-  };
   const StepControl& control = s.config.step;
-  double needed = dt;
-  if (control.automatic) {
-    needed = s.contactScale.duration / control.contactResolution;
-    if (integrator == Integrator::Gear5) {
-      needed = std::min(needed, maxStableStep(s.contactScale, integrator));
-    }
-    needed /= control.safety;
-  }
-  const NetworkFrequency f =
-      networkFrequencyBound(s, control.automatic ? 8 : 32, lookahead,
-                            [&](const NetworkFrequency& g) { return needed <= allowed(g); });
+  const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * dt;
   StepCheck c;
-  c.time = clock(s);
-  c.omegaMax = f.omegaMax;
-  c.dampingRatio = f.dampingRatio;
-  c.particle = f.particle;
-  c.contacts = f.contacts + f.approaching;
-  c.networkStep = allowed(f);
-  c.accuracyStep = s.contactScale.duration / s.config.step.contactResolution;
+  c.accuracyStep = s.contactScale.duration / control.contactResolution;
   // Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long, but
   // contacts that open and close inside a step kick its higher derivatives, and beds gain
   // energy above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
   if (integrator == Integrator::Gear5) {
     c.accuracyStep = std::min(c.accuracyStep, maxStableStep(s.contactScale, integrator));
   }
-  c.chosenStep =
-      s.config.step.automatic ? std::min(s.config.step.safety * c.networkStep, c.accuracyStep) : dt;
+  // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
+  // fixed step, or the accuracy floor an automatic step cannot exceed anyway. An automatic step
+  // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
+  // fixed one 32 before it is judged above the network's.
+  const double needed = control.automatic ? c.accuracyStep / control.safety : dt;
+  const NetworkFrequency f = networkFrequencyBound(
+      s, control.automatic ? 8 : 32, lookahead,
+      [&](const NetworkFrequency& g) { return needed <= networkStepOf(integrator, g); });
+  c.time = clock(s);
+  c.omegaMax = f.omegaMax;
+  c.dampingRatio = f.dampingRatio;
+  c.particle = f.particle;
+  c.contacts = f.contacts + f.approaching;
+  c.networkStep = networkStepOf(integrator, f);
+  c.chosenStep = control.automatic ? std::min(control.safety * c.networkStep, c.accuracyStep) : dt;
   return c;
 }
 

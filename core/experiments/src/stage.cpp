@@ -108,6 +108,32 @@ class StageClock {
   std::size_t nextSnapshot_ = 0;
 };
 
+/// The quasistatic end: the kinetic energy below the stage's threshold from `belowSince` on, for
+/// its sustain time (stage clock, with `tolerance`). The initial state counts towards the
+/// sustain time but cannot end the stage.
+class QuietEnd {
+ public:
+  QuietEnd(const StageSpec& stage, double tolerance, const StageProgress* resume)
+      : stage_(stage), tolerance_(tolerance) {
+    if (resume) belowSince_ = resume->belowSince;
+  }
+  /// At stage time t, with `sim` in the state of that time: whether the stage ends.
+  bool reached(const Simulation& sim, double t) {
+    if (!stage_.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage_.end.kineticEnergyBelow) {
+      belowSince_.reset();
+      return false;
+    }
+    if (!belowSince_) belowSince_ = t;
+    return t - *belowSince_ + tolerance_ >= stage_.end.sustainTime;
+  }
+  const std::optional<double>& belowSince() const { return belowSince_; }
+
+ private:
+  const StageSpec& stage_;
+  double tolerance_;
+  std::optional<double> belowSince_;
+};
+
 /// runStage with an automatic step: the simulation advances to each sample, snapshot and the
 /// end exactly (Simulation::advanceTo), and between them in runs of whole steps where no event
 /// can fall inside (the longest step the control may choose is its accuracy floor).
@@ -117,22 +143,13 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
   const double resumedAt = resume ? resume->time.value_or(0.0) : 0.0;
   const double origin = sim.time() - resumedAt;  // the stage's t = 0 on the simulation's clock
   StageClock clock(output, observer, 1e-3 * output.interval);
-  std::optional<double> belowSince;
   if (resume) {
     clock.resumeAt(resumedAt);
-    belowSince = resume->belowSince;
   } else {
     clock.observe(sim, 0.0);
   }
-  auto quiet = [&](double t) {
-    if (!stage.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage.end.kineticEnergyBelow) {
-      belowSince.reset();
-      return false;
-    }
-    if (!belowSince) belowSince = t;
-    return t - *belowSince + tolerance >= stage.end.sustainTime;
-  };
-  if (!resume) quiet(0.0);
+  QuietEnd quiet(stage, tolerance, resume);
+  if (!resume) quiet.reached(sim, 0.0);
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
@@ -168,13 +185,13 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
       observer.onProgress(sim, stage);
       lastProgress = n;
     }
-    if (quiet(t)) {
+    if (quiet.reached(sim, t)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
     }
     if (observer.onCheckpoint && observer.checkpointSteps > 0 &&
         n - lastCheckpoint >= observer.checkpointSteps) {
-      observer.onCheckpoint(sim, StageProgress{n, belowSince, t});
+      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), t});
       lastCheckpoint = n;
     }
   }
@@ -209,19 +226,9 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     clock.observe(sim, 0.0);
   }
 
-  // Quasistatic end: the kinetic energy must stay below the threshold from `belowSince` on.
-  std::optional<double> belowSince;
-  if (resume) belowSince = resume->belowSince;
-  auto quiet = [&](double t) {
-    if (!stage.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage.end.kineticEnergyBelow) {
-      belowSince.reset();
-      return false;
-    }
-    if (!belowSince) belowSince = t;
-    return t - *belowSince + tolerance >= stage.end.sustainTime;
-  };
+  QuietEnd quiet(stage, tolerance, resume);
   // The initial state counts towards the sustain time, but cannot end the stage.
-  if (!resume) quiet(0.0);
+  if (!resume) quiet.reached(sim, 0.0);
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
@@ -247,11 +254,12 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     const double t = double(n) * dt;
     clock.observe(sim, t);
     if (progressDue(n)) observer.onProgress(sim, stage);
-    if (quiet(t)) {
+    if (quiet.reached(sim, t)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
     }
-    if (checkpointDue(n)) observer.onCheckpoint(sim, StageProgress{n, belowSince, std::nullopt});
+    if (checkpointDue(n))
+      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), std::nullopt});
   }
   result.steps = n;
   result.duration = double(n) * dt;
