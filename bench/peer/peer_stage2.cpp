@@ -2,7 +2,7 @@
 /// checkpoint, timed, for the side-by-side benchmark against LAMMPS and LIGGGHTS (bench/peer/).
 ///
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--skin M] [--threads N]
-///                        [--duration S]
+///                        [--duration S] [--exact-sums]
 ///                        [--fresh [--integrator gear5|verlet]] [--series FILE]
 ///                        [--auto [--contact-resolution N]]
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--export-lammps DIR]
@@ -42,6 +42,7 @@ struct Options {
   std::optional<double> dt;
   std::optional<double> skin;
   int threads = 1;
+  bool exactSums = false;
   std::optional<double> duration;
   bool fresh = false;
   std::string integrator;  // empty: the checkpoint's
@@ -151,6 +152,7 @@ int run(const Options& o) {
     sim.setStepControl(control);
   }
   sim.setThreads(o.threads);
+  sim.setExactSums(o.exactSums);
   studies::setRebuildEveryStep(sim, o.rebuildEveryStep);
 
   std::ofstream series;
@@ -188,6 +190,7 @@ int run(const Options& o) {
   std::printf("step_control = %s\n", o.automatic ? "auto" : "fixed");
   std::printf("dt_range_s = %.9g %.9g\n", sim.counters().smallestStep, sim.counters().largestStep);
   std::printf("threads = %d\n", o.threads);
+  std::printf("exact_sums = %s\n", o.exactSums ? "on" : "off");
   std::printf("skin_m = %.6g\n", sim.skin());
   std::printf("steps = %llu\n", static_cast<unsigned long long>(result.steps));
   std::printf("simulated_s = %.9g\n", result.duration);
@@ -216,6 +219,8 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--threads", o.threads, "OpenMP threads (default 1)");
   app.add_option("--duration", o.duration, "Stage-2 duration [s] (default: the scene's, 1 s)");
+  app.add_flag("--exact-sums", o.exactSums,
+               "Energies and wall reactions summed exactly, as a run on several processes does");
   app.add_flag("--fresh", o.fresh,
                "Drop the contact history and Gear derivatives, as a peer's data file does");
   app.add_option("--integrator", o.integrator,

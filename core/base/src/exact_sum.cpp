@@ -10,39 +10,11 @@ namespace granular {
 namespace {
 
 constexpr int kOffset = 1074;  // bit 0 of limb 0 weighs 2^-1074, the smallest subnormal
-// A limb holds a signed 64-bit value; each addition adds less than 2^32 to it, so 2^30
-// additions (and as many merges of carried accumulators) fit before a carry is needed.
-constexpr std::int64_t kCarryEvery = std::int64_t(1) << 30;
 
 }  // namespace
 
-void ExactSum::add(double x) {
-  if (!std::isfinite(x)) {
-    special_ |= std::isnan(x) ? 4 : (x > 0 ? 1 : 2);
-    return;
-  }
-  if (x == 0.0) return;
-  std::uint64_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  const bool negative = (bits >> 63) != 0;
-  const int biased = int((bits >> 52) & 0x7ff);
-  std::uint64_t mantissa = bits & ((std::uint64_t(1) << 52) - 1);
-  int exponent;  // x = ± mantissa · 2^exponent
-  if (biased == 0) {
-    exponent = -kOffset;  // subnormal
-  } else {
-    mantissa |= std::uint64_t(1) << 52;
-    exponent = biased - 1075;
-  }
-  const int position = exponent + kOffset;  // ≥ 0: the mantissa's bit 0 in the accumulator
-  const int k = position / 32, shift = position % 32;
-  // mantissa << shift spans at most 53 + 31 = 84 bits: three limbs.
-  const unsigned __int128 wide = static_cast<unsigned __int128>(mantissa) << shift;
-  const std::int64_t parts[3] = {std::int64_t(std::uint64_t(wide) & 0xffffffffu),
-                                 std::int64_t(std::uint64_t(wide >> 32) & 0xffffffffu),
-                                 std::int64_t(std::uint64_t(wide >> 64) & 0xffffffffu)};
-  for (int i = 0; i < 3 && k + i < kLimbs; ++i) limb_[k + i] += negative ? -parts[i] : parts[i];
-  if (++pending_ >= kCarryEvery) carry();
+void ExactSum::addSpecial(double x) {
+  special_ |= std::isnan(x) ? 4 : (x > 0 ? 1 : 2);
 }
 
 void ExactSum::merge(const ExactSum& other) {

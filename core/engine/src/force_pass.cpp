@@ -303,6 +303,139 @@ void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers)
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
+/// The energies of one particle's pairs, summed in its contact order (ascending second
+/// particle) across the chunks that hold them, and added exactly once it has none left: the
+/// subtotal is the same bits whatever the chunks, blocks or threads (ExactPowers).
+template <bool kFriction, unsigned kOptional>
+class ParticleEnergies {
+ public:
+  /// The chunk's m pair contacts (by ascending first particle, continuing the last chunk's).
+  /// Branch-free over the contacts: each slot's running sum restarts after a particle's last
+  /// contact, and only those ends are added exactly, in a loop of their own.
+  void add(const ContactChunk& c, std::size_t m, ExactPowers& powers) {
+    if (m == 0) return;
+    if (open_ && c.first[0] != particle_) close(powers);
+    bool ends[kChunk];         // contact e is its particle's last (the chunk's last: not yet)
+    std::uint32_t at[kChunk];  // the ends' contacts, in order
+    std::size_t count = 0;
+    for (std::size_t e = 0; e + 1 < m; ++e) {
+      ends[e] = c.first[e + 1] != c.first[e];
+      at[count] = static_cast<std::uint32_t>(e);
+      count += ends[e] ? 1 : 0;
+    }
+    ends[m - 1] = false;
+    double total[kSummed][kChunk];
+    for (std::size_t e = 0; e < m; ++e) {
+      for (std::size_t k = 0; k < kSummed; ++k) {
+        sum_[k] += c.energyRows[kSlots[k]][e];
+        total[k][e] = sum_[k];
+        sum_[k] = ends[e] ? 0.0 : sum_[k];
+      }
+    }
+    // Slot by slot within each end: two adds in a row go to different accumulators, so the
+    // second does not wait for the first's stores to its limbs.
+    for (std::size_t q = 0; q < count; ++q) {
+      for (std::size_t k = 0; k < kSummed; ++k) powers.energy[kSlots[k]].add(total[k][at[q]]);
+    }
+    particle_ = c.first[m - 1];
+    open_ = true;
+  }
+  /// The last particle's subtotal, at the end of a block (a particle's pairs never straddle
+  /// two blocks).
+  void close(ExactPowers& powers) {
+    if (!open_) return;
+    for (std::size_t k = 0; k < kSummed; ++k) {
+      powers.energy[kSlots[k]].add(sum_[k]);
+      sum_[k] = 0.0;
+    }
+    open_ = false;
+  }
+
+ private:
+  /// Whether the force pass sums this slot (a Slip account is a residual, not summed).
+  static constexpr bool summed(std::size_t slot) {
+    return kEnergySlotTable[slot].kind != EnergyKind::Slip &&
+           kIncludedEnergySlots<kFriction, kOptional>[slot];
+  }
+  static constexpr std::size_t kSummed = [] {
+    std::size_t n = 0;
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) n += summed(slot) ? 1 : 0;
+    return n;
+  }();
+  static constexpr std::array<std::size_t, kSummed> kSlots = [] {
+    std::array<std::size_t, kSummed> slots{};
+    std::size_t n = 0;
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+      if (summed(slot)) slots[n++] = slot;
+    }
+    return slots;
+  }();
+
+  std::uint32_t particle_ = 0;
+  bool open_ = false;
+  double sum_[kSummed] = {};
+};
+
+/// Adds the energies of the chunk's m wall contacts exactly, one by one.
+template <bool kFriction, unsigned kOptional>
+void addWallEnergies(const ContactChunk& c, std::size_t m, ExactPowers& powers) {
+  for (std::size_t e = 0; e < m; ++e) {
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+      if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;
+      if (!kIncludedEnergySlots<kFriction, kOptional>[slot]) continue;
+      powers.energy[slot].add(c.energyRows[slot][e]);
+    }
+  }
+  if constexpr (kFriction) powers.tangentialEvaluations += m;
+}
+
+/// How a pass sums its powers and wall reactions (SimulationConfig::exactSums).
+///
+/// BlockSums: in double, contact by contact within a particle block, then block by block: the
+/// same bits for any thread count (the blocks follow the lists, not the threads), the cheapest.
+template <bool kFriction, unsigned kOptional>
+struct BlockSums {
+  ContactPowers powers;  // local to the block: kept in registers
+  Vec3* reaction;        // the block's push on each wall [N]
+
+  void pairs(const ContactChunk& c, std::size_t m) {
+    addChunkPowers<kFriction, kOptional>(c, m, powers);
+    powers.particleContacts += m;
+  }
+  void wallContacts(const ContactChunk& c, std::size_t m) {
+    addChunkPowers<kFriction, kOptional>(c, m, powers);
+    powers.wallContacts += m;
+  }
+  void wall(std::size_t w, const Vec3& force, double power) {
+    powers.wallPower += power;
+    reaction[w] -= force;
+  }
+};
+
+/// ExactSums: each particle's pair energies in its contact order, each wall contact alone, all
+/// added exactly (ExactPowers): the same bits however the particles are split, among threads,
+/// blocks or processes.
+template <bool kFriction, unsigned kOptional>
+struct ExactSums {
+  ExactPowers& powers;
+  ParticleEnergies<kFriction, kOptional> energies;  // a particle's pairs stay in one block
+
+  void pairs(const ContactChunk& c, std::size_t m) {
+    energies.add(c, m, powers);
+    powers.particleContacts += m;
+    if constexpr (kFriction) powers.tangentialEvaluations += m;
+  }
+  void wallContacts(const ContactChunk& c, std::size_t m) {
+    addWallEnergies<kFriction, kOptional>(c, m, powers);
+    powers.wallContacts += m;
+  }
+  void wall(std::size_t w, const Vec3& force, double power) {
+    powers.wallPower.add(power);
+    for (int a = 0; a < 3; ++a) powers.reaction[3 * w + a].add(-force[a]);
+  }
+  void endBlock() { energies.close(powers); }
+};
+
 /// The advanced history of the chunk's entry e as a stored record.
 template <unsigned kOptional>
 inline void storeRecord(const ContactChunk& c, std::size_t e, double* record) {
@@ -320,14 +453,6 @@ inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
     if (kIncludedHistorySlots<kFriction, kOptional>[k]) history.slot[k] = c.historyRows[k][e];
   }
   return history;
-}
-
-void addPowers(ContactPowers& sum, const ContactPowers& part) {
-  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) sum.energy[slot] += part.energy[slot];
-  sum.wallPower += part.wallPower;
-  sum.particleContacts += part.particleContacts;
-  sum.wallContacts += part.wallContacts;
-  sum.tangentialEvaluations += part.tangentialEvaluations;
 }
 
 // ---- 2. The hot pass ----------------------------------------------------------------------
@@ -470,11 +595,25 @@ class PlannedPass {
       std::fill(s_.torque.begin() + ownBegin, s_.torque.begin() + ownEnd_, Vec3::Zero());
     }
     incomingPairs(t, chunk);
-    for (std::size_t b = plan_.threadBlock[t]; b < plan_.threadBlock[t + 1]; ++b) {
-      ContactPowers powers;  // local: kept in registers
-      blockPairs(b, chunk, powers);
-      blockWalls(b, chunk, powers);
-      scratch_.blockPowers[b] = powers;
+    const std::size_t first = plan_.threadBlock[t], last = plan_.threadBlock[t + 1];
+    if (s_.config.exactSums) {
+      ExactPowers& part = scratch_.partPowers[t];
+      part.clear(walls_);
+      for (std::size_t b = first; b < last; ++b) {
+        ExactSums<kFriction, kOptional> sums{part, {}};
+        blockPairs(b, chunk, sums);
+        sums.endBlock();
+        blockWalls(b, chunk, sums);
+      }
+    } else {
+      for (std::size_t b = first; b < last; ++b) {
+        Vec3* reaction = scratch_.blockReaction.data() + b * walls_;
+        std::fill_n(reaction, walls_, Vec3::Zero());
+        BlockSums<kFriction, kOptional> sums{{}, reaction};
+        blockPairs(b, chunk, sums);
+        blockWalls(b, chunk, sums);
+        scratch_.blockPowers[b] = sums.powers;
+      }
     }
   }
 
@@ -509,7 +648,8 @@ class PlannedPass {
     }
   }
 
-  void blockPairs(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
+  template <class Sums>
+  void blockPairs(std::size_t b, ContactChunk& chunk, Sums& sums) {
     const std::size_t end = list_.blockPair[b + 1];
     // Friction: the block's springs (in pair order, of the pairs holding one) are read and
     // rewritten in place: the springs of a chunk's touching pairs go to the array's front once
@@ -558,8 +698,7 @@ class PlannedPass {
       }
       kern_.geometry(chunk, m, kFriction);
       kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
-      addChunkPowers<kFriction, kOptional>(chunk, m, powers);
-      powers.particleContacts += m;
+      sums.pairs(chunk, m);
       // Pairs come by ascending first particle: i's force and torque stay in registers over
       // its run of contacts (stored once when i changes), which breaks the chain of stores and
       // reloads of one address. The adds are the same, in the same order: the same bits.
@@ -609,9 +748,8 @@ class PlannedPass {
   }
 
   /// The block's wall contacts, wall by wall, in chunks that may hold several walls.
-  void blockWalls(std::size_t b, ContactChunk& chunk, ContactPowers& powers) {
-    Vec3* reaction = scratch_.blockReaction.data() + b * walls_;
-    std::fill_n(reaction, walls_, Vec3::Zero());
+  template <class Sums>
+  void blockWalls(std::size_t b, ContactChunk& chunk, Sums& sums) {
     std::size_t m = 0;
     spans_.clear();
     for (std::size_t w = 0; w < walls_; ++w) {
@@ -623,19 +761,19 @@ class PlannedPass {
                           static_cast<std::uint32_t>(k + count)});
         k += count;
         if (m == kChunk) {
-          wallChunk(chunk, m, powers, reaction);
+          wallChunk(chunk, m, sums);
           m = 0;
         }
       }
     }
-    if (!spans_.empty()) wallChunk(chunk, m, powers, reaction);
+    if (!spans_.empty()) wallChunk(chunk, m, sums);
   }
 
-  void wallChunk(ContactChunk& chunk, std::size_t m, ContactPowers& powers, Vec3* reaction) {
+  template <class Sums>
+  void wallChunk(ContactChunk& chunk, std::size_t m, Sums& sums) {
     loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, chunk, m);
     kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
-    addChunkPowers<kFriction, kOptional>(chunk, m, powers);
-    powers.wallContacts += m;
+    sums.wallContacts(chunk, m);
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t w = chunk.wall[e], i = list_.wallParticles[w][chunk.slot[e]];
       const Vec3 f = forceOf(chunk, e);
@@ -643,8 +781,7 @@ class PlannedPass {
       // d_ci × F on the particle, d_ci = a n.
       if constexpr (kFriction) s_.torque[i] += chunk.armI[e] * normalOf(chunk, e).cross(f);
       if constexpr (kPureTorque<kFriction, kOptional>) s_.torque[i] += pureTorqueOf(chunk, e);
-      powers.wallPower += f.dot(s_.walls[w].velocity);
-      reaction[w] -= f;
+      sums.wall(w, f, f.dot(s_.walls[w].velocity));
     }
     if constexpr (kFriction) {  // the examined candidates forget their springs, then keep these
       for (const CandidateSpan& span : spans_) {
@@ -670,6 +807,47 @@ class PlannedPass {
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
 };
+
+void addPowers(ContactPowers& sum, const ContactPowers& part) {
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) sum.energy[slot] += part.energy[slot];
+  sum.wallPower += part.wallPower;
+  sum.particleContacts += part.particleContacts;
+  sum.wallContacts += part.wallContacts;
+  sum.tangentialEvaluations += part.tangentialEvaluations;
+}
+
+/// The blocks' sums, in block order (BlockSums).
+void finishBlockSums(SimulationState& s, std::size_t blocks, std::size_t walls) {
+  const ContactScratch& out = s.contactScratch;
+  ContactPowers powers;
+  for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
+  s.powers = powers;
+  for (std::size_t w = 0; w < walls; ++w) {
+    Vec3 reaction = Vec3::Zero();
+    for (std::size_t b = 0; b < blocks; ++b) reaction += out.blockReaction[b * walls + w];
+    s.walls[w].reaction = reaction;
+  }
+}
+
+/// The parts' exact sums, merged (in any order: the same bits) and rounded once (ExactSums).
+void finishExactSums(SimulationState& s, std::size_t walls) {
+  ContactScratch& out = s.contactScratch;
+  ExactPowers& total = out.partPowers[0];
+  for (std::size_t t = 1; t < out.partPowers.size(); ++t) total.merge(out.partPowers[t]);
+  ContactPowers powers;
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+    powers.energy[slot] = total.energy[slot].value();
+  }
+  powers.wallPower = total.wallPower.value();
+  powers.particleContacts = total.particleContacts;
+  powers.wallContacts = total.wallContacts;
+  powers.tangentialEvaluations = total.tangentialEvaluations;
+  s.powers = powers;
+  for (std::size_t w = 0; w < walls; ++w) {
+    s.walls[w].reaction = Vec3(total.reaction[3 * w].value(), total.reaction[3 * w + 1].value(),
+                               total.reaction[3 * w + 2].value());
+  }
+}
 
 /// The hot pass. On one thread, one part owns every block. On several, each part computes its
 /// incoming pairs (the second's share), then its own contacts, with no barrier between parts:
@@ -698,8 +876,12 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
     SpringReader reader(list);  // crossing pairs come in ascending pair order
     for (std::size_t q = 0; q < crossings; ++q) out.crossingSpring[q] = reader.at(plan.crossing[q]);
   }
-  out.blockPowers.resize(blocks);
-  out.blockReaction.resize(blocks * walls);
+  if (s.config.exactSums) {
+    out.partPowers.resize(static_cast<std::size_t>(threads));
+  } else {
+    out.blockPowers.resize(blocks);
+    out.blockReaction.resize(blocks * walls);
+  }
   resizeExactly(s.force, n);
   if constexpr (kFriction) resizeExactly(s.torque, n);
 
@@ -730,13 +912,10 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
       }
     }
   }
-  ContactPowers powers;
-  for (const ContactPowers& part : out.blockPowers) addPowers(powers, part);
-  s.powers = powers;
-  for (std::size_t w = 0; w < walls; ++w) {
-    Vec3 reaction = Vec3::Zero();
-    for (std::size_t b = 0; b < blocks; ++b) reaction += out.blockReaction[b * walls + w];
-    s.walls[w].reaction = reaction;
+  if (s.config.exactSums) {
+    finishExactSums(s, walls);
+  } else {
+    finishBlockSums(s, blocks, walls);
   }
   return failures;
 }
@@ -816,6 +995,23 @@ void withLaw(const SimulationState& s, F&& f) {
 }
 
 }  // namespace
+
+void ExactPowers::clear(std::size_t walls) {
+  for (ExactSum& e : energy) e = ExactSum();
+  wallPower = ExactSum();
+  reaction.assign(3 * walls, ExactSum());
+  particleContacts = wallContacts = 0;
+  tangentialEvaluations = 0;
+}
+
+void ExactPowers::merge(const ExactPowers& other) {
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) energy[slot].merge(other.energy[slot]);
+  wallPower.merge(other.wallPower);
+  for (std::size_t k = 0; k < reaction.size(); ++k) reaction[k].merge(other.reaction[k]);
+  particleContacts += other.particleContacts;
+  wallContacts += other.wallContacts;
+  tangentialEvaluations += other.tangentialEvaluations;
+}
 
 ForceKernelBuild forceKernelBuild() {
   return selectedBuild();

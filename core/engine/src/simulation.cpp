@@ -316,6 +316,23 @@ void requireStableTangentialDamping(const Material& material, double dt, Integra
   }
 }
 
+// ---- Sums over the particles ----
+
+ParticleSums particleSums(const SimulationState& s) {
+  const Particles& p = s.particles;
+  ParticleSums sums;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    sums.translational.add(0.5 * p.mass[i] * p.velocity[i].squaredNorm());
+    sums.potential.add(p.mass[i] * s.config.gravity.dot(p.position[i]));
+  }
+  if (s.frictional) {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      sums.rotational.add(0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm());
+    }
+  }
+  return sums;
+}
+
 // ---- Set-up -------------------------------------------------------------------------------
 
 Simulation::Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config)
@@ -359,9 +376,7 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
     s.translation.d2[i] = s.force[i] * (1.0 / p.mass[i]) + config.gravity;
     if (s.frictional) s.rotation.d2[i] = s.torque[i] * (1.0 / p.inertia(i));
   }
-  double potential = 0;
-  for (std::size_t i = 0; i < n; ++i) potential += p.mass[i] * config.gravity.dot(p.position[i]);
-  s.energy.initialPotential = potential;
+  s.energy.initialPotential = particleSums(s).potential.value();
   for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
     s.energy.initialStored[slot] = s.powers.energy[slot];
   }
@@ -736,6 +751,10 @@ void Simulation::setThreads(int threads) {
   state_->config.threads = threads;
 }
 
+void Simulation::setExactSums(bool exact) {
+  state_->config.exactSums = exact;
+}
+
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {
   require(velocity.allFinite(), "wall velocity must be finite");
   state_->walls.at(wall).velocity = velocity;
@@ -750,15 +769,9 @@ long Simulation::findWall(const std::string& name) const {
 }
 
 double Simulation::kineticEnergy() const {
-  const SimulationState& s = *state_;
-  const Particles& p = s.particles;
-  double e = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) e += p.mass[i] * p.velocity[i].squaredNorm();
-  if (s.frictional) {
-    for (std::size_t i = 0; i < p.size(); ++i)
-      e += p.inertia(i) * p.angularVelocity[i].squaredNorm();
-  }
-  return 0.5 * e;
+  ParticleSums sums = particleSums(*state_);
+  sums.translational.merge(sums.rotational);
+  return sums.translational.value();
 }
 
 namespace {
@@ -797,14 +810,11 @@ double slip(const SimulationState& s, std::string_view group) {
 
 EnergyBalance Simulation::energy() const {
   const SimulationState& s = *state_;
-  const Particles& p = s.particles;
   EnergyBalance b;
-  double potential = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    b.kineticTranslational += 0.5 * p.mass[i] * p.velocity[i].squaredNorm();
-    b.kineticRotational += 0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm();
-    potential += p.mass[i] * s.config.gravity.dot(p.position[i]);
-  }
+  const ParticleSums sums = particleSums(s);
+  b.kineticTranslational = sums.translational.value();
+  b.kineticRotational = sums.rotational.value();
+  const double potential = sums.potential.value();
   const EnergyAccumulators& e = s.energy;
   // Each column's value; a Slip account is what its group's forces took from the particles and
   // neither its springs nor its dashpots hold: −W − ΔE_s − D + S.
@@ -876,7 +886,8 @@ MemoryUse Simulation::memoryUse() const {
                 bytes(x.crossingFirst) + bytes(x.incoming) + bytes(x.incomingStart);
   const ContactScratch& c = s.contactScratch;
   m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +
-              bytes(c.blockReaction);
+              bytes(c.blockReaction) + bytes(c.partPowers);
+  for (const ExactPowers& part : c.partPowers) m.scratch += bytes(part.reaction);
   return m;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "granular/contact_model.hpp"
+#include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
 
 namespace granular {
@@ -198,6 +199,24 @@ struct ContactPowers {
   std::uint64_t tangentialEvaluations = 0;
 };
 
+/// One part's share of a force pass's sums with SimulationConfig::exactSums: exact (ExactSum),
+/// so that the totals are the same bits however the contacts are split among threads, blocks or
+/// processes. A particle's pair energies are summed in its contact order (ascending second
+/// particle) and that subtotal is added exactly; each wall contact's energies, power and push
+/// are added exactly one by one.
+struct ExactPowers {
+  ExactSum energy[kEnergySlots];
+  ExactSum wallPower;
+  std::vector<ExactSum> reaction;  ///< 3 per wall: x, y, z of the push on it [N]
+  std::size_t particleContacts = 0;
+  std::size_t wallContacts = 0;
+  std::uint64_t tangentialEvaluations = 0;
+  /// Empties the sums for `walls` walls.
+  void clear(std::size_t walls);
+  /// Adds another part's sums.
+  void merge(const ExactPowers& other);
+};
+
 /// Results of the force pass kept between its phases and its blocks (ForcePlan).
 struct ContactScratch {
   /// Per crossing pair (friction only): its stored spring as it was before the pass, which the
@@ -206,8 +225,9 @@ struct ContactScratch {
   /// Per thread of the pass (friction only): the springs of its block not yet read when the
   /// block's new springs would overwrite them (force_pass.cpp, SpringCursor).
   std::vector<std::vector<double>> springsSetAside;
-  std::vector<ContactPowers> blockPowers;  ///< per particle block
+  std::vector<ContactPowers> blockPowers;  ///< per particle block (in double)
   std::vector<Vec3> blockReaction;         ///< per particle block and wall: push on the wall [N]
+  std::vector<ExactPowers> partPowers;     ///< per part of the pass (with exactSums)
 };
 
 /// The ledger since the start, per energy account: Dissipated and Work integrated (trapezoid
@@ -261,6 +281,14 @@ struct SimulationState {
   EnergyAccumulators energy;
   StepCounters counters;
 };
+
+/// Sums over the particles, exact (ExactSum): the same bits whatever the particles' split.
+struct ParticleSums {
+  ExactSum translational;  ///< Σ ½ m v² [J]
+  ExactSum rotational;     ///< Σ ½ I ω² [J] (frictional only; 0 otherwise)
+  ExactSum potential;      ///< Σ m g·x [J]
+};
+ParticleSums particleSums(const SimulationState& s);
 
 /// The engine's own files' way into a Simulation's state (checkpoint I/O, the network's bound).
 struct SimulationAccess {

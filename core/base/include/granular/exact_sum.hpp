@@ -6,6 +6,7 @@
 /// any split of the terms (docs/physics.md §2.9).
 #include <array>
 #include <cstdint>
+#include <cstring>
 
 namespace granular {
 
@@ -13,7 +14,32 @@ class ExactSum {
  public:
   /// Adds x exactly. Infinities and NaN are remembered: the result is then NaN, +∞ or −∞ as
   /// IEEE addition of the same terms in any order would give.
-  void add(double x);
+  /// Inline: the force pass adds a few terms a particle.
+  void add(double x) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    const unsigned biased = unsigned(bits >> 52) & 0x7ffu;
+    if (biased == 0x7ffu) {
+      addSpecial(x);
+      return;
+    }
+    // x = ± mantissa · 2^(position − 1074): a subnormal's (biased 0) mantissa at bit 0, a
+    // normal one's with its hidden bit, one binade up per biased exponent above 1.
+    const std::uint64_t normal = biased != 0 ? 1 : 0;
+    const std::uint64_t mantissa = (bits & ((std::uint64_t(1) << 52) - 1)) | (normal << 52);
+    const unsigned position = biased - unsigned(normal);
+    const unsigned shift = position % 32;
+    // mantissa << shift spans at most 53 + 31 = 84 bits: three limbs from limb position / 32
+    // (≤ 63, so ≤ 65 < kLimbs). Branch-free: a sign mask (0 or −1) negates the parts.
+    const std::uint64_t low = mantissa << shift;
+    const std::uint64_t high = (mantissa >> 1) >> (63 - shift);
+    const std::int64_t sign = -std::int64_t(bits >> 63);
+    std::int64_t* limb = limb_.data() + position / 32;
+    limb[0] += (std::int64_t(low & 0xffffffffu) ^ sign) - sign;
+    limb[1] += (std::int64_t(low >> 32) ^ sign) - sign;
+    limb[2] += (std::int64_t(high) ^ sign) - sign;
+    if (++pending_ >= kCarryEvery) carry();
+  }
   /// Adds another accumulator's terms (exactly, in any order).
   void merge(const ExactSum& other);
   /// The sum rounded once to the nearest double (ties to even); ±∞ beyond the largest double.
@@ -29,6 +55,10 @@ class ExactSum {
   static ExactSum fromWords(const Words& words);
 
  private:
+  /// A limb holds a signed 64-bit value; each addition adds less than 2^32 to it, so 2^30
+  /// additions (and as many merges of carried accumulators) fit before a carry is needed.
+  static constexpr std::int64_t kCarryEvery = std::int64_t(1) << 30;
+  void addSpecial(double x);  ///< remembers ±∞ or NaN
   void carry();  ///< propagates carries so that every limb but the last lies in [0, 2^32)
   std::array<std::int64_t, kLimbs> limb_{};  ///< limb k weighs 2^(32k − 1074)
   std::int64_t pending_ = 0;  ///< additions since the last carry (each adds < 2^32 a limb)

@@ -77,6 +77,13 @@ struct SimulationConfig {
   /// Threads for the force pass and the integrator [-]; 0 = OpenMP's default (OMP_NUM_THREADS
   /// or all cores). Results are identical, bit for bit, for any count.
   int threads = 0;
+  /// The contact energies, their powers and the walls' reactions summed exactly (ExactSum,
+  /// docs/physics.md §2.9): the same bits however the particles are split, among threads or
+  /// among processes, which a run on several processes needs. Off, they are summed in double,
+  /// block by block, which is the same for any thread count only and cheaper (bench/RESULTS.md).
+  /// The particles' motion does not depend on it; sums over the particles (kinetic and
+  /// potential energy) are always exact.
+  bool exactSums = false;
 };
 
 /// One account of the contact energy ledger, as its term declares it (granular/contact_terms/).
@@ -239,6 +246,9 @@ class Simulation {
   void setIntegrator(Integrator integrator);
   /// Threads for the following steps (0 = OpenMP's default); results do not depend on it.
   void setThreads(int threads);
+  /// Sums the energies and wall reactions exactly from the next force pass on
+  /// (SimulationConfig::exactSums); the motion is the same bits either way.
+  void setExactSums(bool exact);
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.
