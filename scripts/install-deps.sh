@@ -21,6 +21,8 @@ packages=(
   libosmesa6-dev libpng-dev libfreetype-dev fonts-dejavu-core
   # ParaView files (VTK's data model and XML writers; ~350 MB on a fresh machine)
   libvtk9-dev
+  # runs split among processes (core/parallel): OpenMPI's library and mpirun
+  libopenmpi-dev openmpi-bin
   # granular-gui (optional window) and its test under a virtual X server
   libimgui-dev libglfw3-dev libstb-dev xvfb xauth
   # sanitizer and fuzzing builds (scripts/ci-sanitizers.sh): clang; its sanitizer and libFuzzer

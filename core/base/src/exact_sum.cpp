@@ -87,9 +87,11 @@ double ExactSum::value() const {
 }
 
 ExactSum::Words ExactSum::words() const {
+  ExactSum c = *this;
+  c.carry();
   Words w{};
-  for (int i = 0; i < kLimbs; ++i) w[i] = limb_[i];
-  w[kLimbs] = pending_;
+  for (int i = 0; i < kLimbs; ++i) w[i] = c.limb_[i];
+  w[kLimbs] = c.pending_;
   w[kLimbs + 1] = special_;
   return w;
 }

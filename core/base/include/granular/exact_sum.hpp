@@ -47,8 +47,11 @@ class ExactSum {
   /// True when no term was added or every term cancelled exactly.
   bool isZero() const;
 
-  /// The accumulator's words, for sending between processes: limbs, then the count of terms
-  /// since the last carry, then the special-value flags.
+  /// The accumulator's words, for sending between processes: the limbs, carried (each in
+  /// [0, 2^32) but the top one, which holds the sign), the count of terms since the last carry
+  /// (0), then the special-value flags. The words of k accumulators may be summed element by
+  /// element (limbs and count; k < 2^30) with the flags ORed: fromWords of that is their merge,
+  /// which is what an MPI reduction of integers does.
   static constexpr int kLimbs = 67;  ///< 67 × 32 bits ≥ 1074 + 1024 + headroom for carries
   using Words = std::array<std::int64_t, kLimbs + 2>;
   Words words() const;

@@ -1,0 +1,51 @@
+#pragma once
+/// The box cut into bricks, one per rank: nx × ny × nz bricks (rank = ix + nx (iy + ny iz)) whose
+/// cut planes lie on each axis at positions shared by every brick of a slab. The counts are
+/// chosen from the rank count and the box's shape (the least cut area); the cut positions start
+/// even and may move so that each slab holds as many particles as the others (balance). Pure
+/// geometry, the same on every rank for the same inputs: every rank decides alike who owns what.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "granular/vec3.hpp"
+
+namespace granular {
+
+class Bricks {
+ public:
+  /// `ranks` bricks over the box [lo, hi] (hi > lo on every axis; ranks >= 1): the counts
+  /// nx ny nz = ranks with the least total area of cut planes, ties to more cuts along z, then
+  /// y (a bed is deep before it is wide). Throws std::invalid_argument on a bad argument.
+  Bricks(int ranks, const Vec3& lo, const Vec3& hi);
+
+  int ranks() const { return counts_[0] * counts_[1] * counts_[2]; }
+  /// Bricks along x, y, z.
+  const std::array<int, 3>& counts() const { return counts_; }
+  /// The cut positions along an axis: counts()[axis] − 1 ascending values inside the box [m].
+  const std::vector<double>& cuts(int axis) const { return cuts_[axis]; }
+
+  /// The rank whose brick holds x. A point on a cut plane belongs to the brick above it; a point
+  /// outside the box to the nearest brick (the outer bricks reach to infinity), so that every
+  /// particle has one owner wherever it goes.
+  int owner(const Vec3& x) const;
+  /// The ranks whose bricks lie within `halo` of x [m], apart from x's own owner: the ranks
+  /// that hold x as a ghost. Ascending.
+  std::vector<int> ghostRanks(const Vec3& x, double halo) const;
+  /// Brick `rank`'s bounds, lo and hi (±infinity on the box's outer faces) [m].
+  std::array<Vec3, 2> bounds(int rank) const;
+
+  /// Moves the cuts so that the slabs along each axis hold as equal particle counts as the
+  /// positions allow, each cut at least `minWidth` [m] from its neighbours and the box's
+  /// faces. Counting along each axis alone keeps the shared planes; a bed whose load varies
+  /// across a slab is balanced only on the average. Deterministic: the same positions (in any
+  /// order) give the same cuts.
+  void balance(const std::vector<Vec3>& positions, double minWidth);
+
+ private:
+  std::array<int, 3> counts_{1, 1, 1};
+  std::array<std::vector<double>, 3> cuts_;
+  Vec3 lo_, hi_;
+};
+
+}  // namespace granular

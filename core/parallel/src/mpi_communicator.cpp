@@ -1,0 +1,167 @@
+/// The communicator on MPI (granular/communicator.hpp), and the MPI session. Built with or
+/// without MPI: without it (GRANULAR_WITH_MPI undefined) the session does nothing and the world
+/// is one process.
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "granular/communicator.hpp"
+
+#ifdef GRANULAR_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace granular {
+
+#ifdef GRANULAR_WITH_MPI
+namespace {
+
+/// Throws on an MPI error code (MPI's default handler aborts first; this is for the others).
+void check(int code, const char* what) {
+  if (code != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+
+class MpiCommunicator final : public Communicator {
+ public:
+  explicit MpiCommunicator(MPI_Comm comm) : comm_(comm) {
+    check(MPI_Comm_rank(comm_, &rank_), "MPI_Comm_rank");
+    check(MPI_Comm_size(comm_, &size_), "MPI_Comm_size");
+  }
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+
+  double maxOverRanks(double x) const override {
+    double out = x;
+    check(MPI_Allreduce(&x, &out, 1, MPI_DOUBLE, MPI_MAX, comm_), "MPI_Allreduce (max)");
+    return out;
+  }
+  bool anyOverRanks(bool x) const override {
+    int in = x ? 1 : 0, out = 0;
+    check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, comm_), "MPI_Allreduce (or)");
+    return out != 0;
+  }
+  std::uint64_t sumOverRanks(std::uint64_t x) const override {
+    std::uint64_t out = 0;
+    check(MPI_Allreduce(&x, &out, 1, MPI_UINT64_T, MPI_SUM, comm_), "MPI_Allreduce (sum)");
+    return out;
+  }
+  void mergeOverRanks(std::vector<ExactSum>& sums) const override {
+    // The carried words summed element by element (limbs and count) and the flags ORed: the
+    // merge of every rank's accumulator (ExactSum::words), integer sums in any order.
+    constexpr int kSummed = ExactSum::kLimbs + 1, kWords = ExactSum::kLimbs + 2;
+    const std::size_t n = sums.size();
+    std::vector<std::int64_t> limbs(n * kSummed), flags(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const ExactSum::Words w = sums[k].words();
+      std::copy(w.begin(), w.begin() + kSummed, limbs.begin() + k * kSummed);
+      flags[k] = w[kWords - 1];
+    }
+    check(MPI_Allreduce(MPI_IN_PLACE, limbs.data(), static_cast<int>(limbs.size()), MPI_INT64_T,
+                        MPI_SUM, comm_),
+          "MPI_Allreduce (exact sums)");
+    check(
+        MPI_Allreduce(MPI_IN_PLACE, flags.data(), static_cast<int>(n), MPI_INT64_T, MPI_BOR, comm_),
+        "MPI_Allreduce (exact sums' flags)");
+    for (std::size_t k = 0; k < n; ++k) {
+      ExactSum::Words w{};
+      std::copy(limbs.begin() + k * kSummed, limbs.begin() + (k + 1) * kSummed, w.begin());
+      w[kWords - 1] = flags[k];
+      sums[k] = ExactSum::fromWords(w);
+    }
+  }
+
+  std::vector<std::vector<std::byte>> exchange(
+      const std::vector<std::vector<std::byte>>& outgoing) const override {
+    if (static_cast<int>(outgoing.size()) != size_) {
+      throw std::invalid_argument("exchange: one buffer per rank expected");
+    }
+    std::vector<int> sendCount(size_), receiveCount(size_), sendAt(size_), receiveAt(size_);
+    int sendTotal = 0;
+    for (int r = 0; r < size_; ++r) {
+      sendCount[r] = static_cast<int>(outgoing[r].size());
+      sendAt[r] = sendTotal;
+      sendTotal += sendCount[r];
+    }
+    check(MPI_Alltoall(sendCount.data(), 1, MPI_INT, receiveCount.data(), 1, MPI_INT, comm_),
+          "MPI_Alltoall (counts)");
+    int receiveTotal = 0;
+    for (int r = 0; r < size_; ++r) {
+      receiveAt[r] = receiveTotal;
+      receiveTotal += receiveCount[r];
+    }
+    std::vector<std::byte> send(static_cast<std::size_t>(sendTotal)),
+        receive(static_cast<std::size_t>(receiveTotal));
+    for (int r = 0; r < size_; ++r) {
+      std::copy(outgoing[r].begin(), outgoing[r].end(), send.begin() + sendAt[r]);
+    }
+    check(MPI_Alltoallv(send.data(), sendCount.data(), sendAt.data(), MPI_BYTE, receive.data(),
+                        receiveCount.data(), receiveAt.data(), MPI_BYTE, comm_),
+          "MPI_Alltoallv");
+    std::vector<std::vector<std::byte>> incoming(size_);
+    for (int r = 0; r < size_; ++r) {
+      incoming[r].assign(receive.begin() + receiveAt[r],
+                         receive.begin() + receiveAt[r] + receiveCount[r]);
+    }
+    return incoming;
+  }
+
+  std::vector<std::byte> broadcast(const std::vector<std::byte>& bytes) const override {
+    std::uint64_t size = bytes.size();
+    check(MPI_Bcast(&size, 1, MPI_UINT64_T, 0, comm_), "MPI_Bcast (size)");
+    std::vector<std::byte> out = rank_ == 0 ? bytes : std::vector<std::byte>(size);
+    check(MPI_Bcast(out.data(), static_cast<int>(size), MPI_BYTE, 0, comm_), "MPI_Bcast");
+    return out;
+  }
+
+  void barrier() const override { check(MPI_Barrier(comm_), "MPI_Barrier"); }
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0, size_ = 1;
+};
+
+}  // namespace
+
+bool builtWithMpi() {
+  return true;
+}
+
+MpiSession::MpiSession(int& argc, char**& argv) {
+  int provided = 0;
+  check(MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+}
+
+MpiSession::~MpiSession() {
+  MPI_Finalize();
+}
+
+std::unique_ptr<Communicator> MpiSession::world() const {
+  return std::make_unique<MpiCommunicator>(MPI_COMM_WORLD);
+}
+
+void MpiSession::abortAll(int code) {
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; should it, the process still ends
+}
+
+#else  // one process
+
+bool builtWithMpi() {
+  return false;
+}
+
+MpiSession::MpiSession(int&, char**&) {}
+MpiSession::~MpiSession() = default;
+
+std::unique_ptr<Communicator> MpiSession::world() const {
+  return singleProcess();
+}
+
+void MpiSession::abortAll(int code) {
+  std::_Exit(code);
+}
+
+#endif
+
+}  // namespace granular
