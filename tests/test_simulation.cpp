@@ -411,3 +411,19 @@ TEST(Simulation, MaterialChangesMidRunAreAppliedOrRefusedCleanly) {
   for (const Vec3& w : steered.particles().angularVelocity) EXPECT_EQ(w, Vec3::Zero());
   for (const Vec3& x : steered.particles().position) EXPECT_TRUE(x.allFinite());
 }
+
+TEST(Simulation, OwnershipIsRefusedWithoutOneFlagPerParticleOrWithoutRanks) {
+  Simulation sim = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
+  const std::shared_ptr<const Communicator> one = singleProcess();
+  EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(7, 1), one), ConfigError);
+  EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(8, 1), nullptr), ConfigError);
+  // Owning every particle on one process is the exact sums of the whole run.
+  Simulation exact = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
+  exact.setExactSums(true);
+  sim.setOwnership(std::vector<std::uint8_t>(8, 1), one);
+  sim.run(2000);
+  exact.run(2000);
+  EXPECT_EQ(sim.stateHash(), exact.stateHash());
+  EXPECT_EQ(sim.energy().of("elastic_normal_J"), exact.energy().of("elastic_normal_J"));
+  EXPECT_EQ(sim.energy().of("dissipated_normal_J"), exact.energy().of("dissipated_normal_J"));
+}

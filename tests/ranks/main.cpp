@@ -2,7 +2,7 @@
 /// under mpirun on 1 to 4 ranks). Rank 0 prints; every rank exits non-zero when any rank failed.
 #include <gtest/gtest.h>
 
-#include "granular/communicator.hpp"
+#include "granular/mpi_session.hpp"
 #include "ranks.hpp"
 
 namespace granular::testing {

@@ -312,16 +312,18 @@ class ParticleEnergies {
   /// The chunk's m pair contacts (by ascending first particle, continuing the last chunk's).
   /// Branch-free over the contacts: each slot's running sum restarts after a particle's last
   /// contact, and only those ends are added exactly, in a loop of their own.
-  void add(const ContactChunk& c, std::size_t m, ExactPowers& powers) {
+  /// `owned`: which particles this process accounts for (null: all); the others' subtotals are
+  /// dropped (their owners add them).
+  void add(const ContactChunk& c, std::size_t m, ExactPowers& powers, const std::uint8_t* owned) {
     if (m == 0) return;
-    if (open_ && c.first[0] != particle_) close(powers);
+    if (open_ && c.first[0] != particle_) close(powers, owned);
     bool ends[kChunk];         // contact e is its particle's last (the chunk's last: not yet)
     std::uint32_t at[kChunk];  // the ends' contacts, in order
     std::size_t count = 0;
     for (std::size_t e = 0; e + 1 < m; ++e) {
       ends[e] = c.first[e + 1] != c.first[e];
       at[count] = static_cast<std::uint32_t>(e);
-      count += ends[e] ? 1 : 0;
+      count += ends[e] && (owned == nullptr || owned[c.first[e]]) ? 1 : 0;
     }
     ends[m - 1] = false;
     double total[kSummed][kChunk];
@@ -342,10 +344,11 @@ class ParticleEnergies {
   }
   /// The last particle's subtotal, at the end of a block (a particle's pairs never straddle
   /// two blocks).
-  void close(ExactPowers& powers) {
+  void close(ExactPowers& powers, const std::uint8_t* owned) {
     if (!open_) return;
+    const bool mine = owned == nullptr || owned[particle_];
     for (std::size_t k = 0; k < kSummed; ++k) {
-      powers.energy[kSlots[k]].add(sum_[k]);
+      if (mine) powers.energy[kSlots[k]].add(sum_[k]);
       sum_[k] = 0.0;
     }
     open_ = false;
@@ -376,17 +379,23 @@ class ParticleEnergies {
   double sum_[kSummed] = {};
 };
 
-/// Adds the energies of the chunk's m wall contacts exactly, one by one.
+/// Adds the energies of the chunk's m wall contacts exactly, one by one, those of particles
+/// this process owns (`owned`, null: all; `who`: each contact's particle).
 template <bool kFriction, unsigned kOptional>
-void addWallEnergies(const ContactChunk& c, std::size_t m, ExactPowers& powers) {
+void addWallEnergies(const ContactChunk& c, std::size_t m, ExactPowers& powers,
+                     const std::uint8_t* owned, const std::uint32_t* who) {
+  std::size_t counted = 0;
   for (std::size_t e = 0; e < m; ++e) {
+    if (owned != nullptr && !owned[who[e]]) continue;
+    ++counted;
     for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
       if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;
       if (!kIncludedEnergySlots<kFriction, kOptional>[slot]) continue;
       powers.energy[slot].add(c.energyRows[slot][e]);
     }
   }
-  if constexpr (kFriction) powers.tangentialEvaluations += m;
+  powers.wallContacts += counted;
+  if constexpr (kFriction) powers.tangentialEvaluations += counted;
 }
 
 /// How a pass sums its powers and wall reactions (SimulationConfig::exactSums).
@@ -402,11 +411,11 @@ struct BlockSums {
     addChunkPowers<kFriction, kOptional>(c, m, powers);
     powers.particleContacts += m;
   }
-  void wallContacts(const ContactChunk& c, std::size_t m) {
+  void wallContacts(const ContactChunk& c, std::size_t m, const std::uint32_t*) {
     addChunkPowers<kFriction, kOptional>(c, m, powers);
     powers.wallContacts += m;
   }
-  void wall(std::size_t w, const Vec3& force, double power) {
+  void wall(std::size_t w, const Vec3& force, double power, std::uint32_t) {
     powers.wallPower += power;
     reaction[w] -= force;
   }
@@ -414,26 +423,33 @@ struct BlockSums {
 
 /// ExactSums: each particle's pair energies in its contact order, each wall contact alone, all
 /// added exactly (ExactPowers): the same bits however the particles are split, among threads,
-/// blocks or processes.
+/// blocks or processes. With ownership (`owned`, Simulation::setOwnership) only the contacts
+/// this process accounts for: pairs whose first particle it owns, its particles' wall contacts.
 template <bool kFriction, unsigned kOptional>
 struct ExactSums {
   ExactPowers& powers;
+  const std::uint8_t* owned;                        // null: every particle
   ParticleEnergies<kFriction, kOptional> energies;  // a particle's pairs stay in one block
 
   void pairs(const ContactChunk& c, std::size_t m) {
-    energies.add(c, m, powers);
-    powers.particleContacts += m;
-    if constexpr (kFriction) powers.tangentialEvaluations += m;
+    energies.add(c, m, powers, owned);
+    std::size_t counted = m;
+    if (owned != nullptr) {
+      counted = 0;
+      for (std::size_t e = 0; e < m; ++e) counted += owned[c.first[e]];
+    }
+    powers.particleContacts += counted;
+    if constexpr (kFriction) powers.tangentialEvaluations += counted;
   }
-  void wallContacts(const ContactChunk& c, std::size_t m) {
-    addWallEnergies<kFriction, kOptional>(c, m, powers);
-    powers.wallContacts += m;
+  void wallContacts(const ContactChunk& c, std::size_t m, const std::uint32_t* who) {
+    addWallEnergies<kFriction, kOptional>(c, m, powers, owned, who);
   }
-  void wall(std::size_t w, const Vec3& force, double power) {
+  void wall(std::size_t w, const Vec3& force, double power, std::uint32_t particle) {
+    if (owned != nullptr && !owned[particle]) return;
     powers.wallPower.add(power);
     for (int a = 0; a < 3; ++a) powers.reaction[3 * w + a].add(-force[a]);
   }
-  void endBlock() { energies.close(powers); }
+  void endBlock() { energies.close(powers, owned); }
 };
 
 /// The advanced history of the chunk's entry e as a stored record.
@@ -600,7 +616,8 @@ class PlannedPass {
       ExactPowers& part = scratch_.partPowers[t];
       part.clear(walls_);
       for (std::size_t b = first; b < last; ++b) {
-        ExactSums<kFriction, kOptional> sums{part, {}};
+        ExactSums<kFriction, kOptional> sums{
+            part, s_.owned.empty() ? nullptr : s_.owned.data(), {}};
         blockPairs(b, chunk, sums);
         sums.endBlock();
         blockWalls(b, chunk, sums);
@@ -773,7 +790,9 @@ class PlannedPass {
   void wallChunk(ContactChunk& chunk, std::size_t m, Sums& sums) {
     loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, chunk, m);
     kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
-    sums.wallContacts(chunk, m);
+    std::uint32_t who[kChunk];  // each contact's particle
+    for (std::size_t e = 0; e < m; ++e) who[e] = list_.wallParticles[chunk.wall[e]][chunk.slot[e]];
+    sums.wallContacts(chunk, m, who);
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t w = chunk.wall[e], i = list_.wallParticles[w][chunk.slot[e]];
       const Vec3 f = forceOf(chunk, e);
@@ -781,7 +800,7 @@ class PlannedPass {
       // d_ci × F on the particle, d_ci = a n.
       if constexpr (kFriction) s_.torque[i] += chunk.armI[e] * normalOf(chunk, e).cross(f);
       if constexpr (kPureTorque<kFriction, kOptional>) s_.torque[i] += pureTorqueOf(chunk, e);
-      sums.wall(w, f, f.dot(s_.walls[w].velocity));
+      sums.wall(w, f, f.dot(s_.walls[w].velocity), i);
     }
     if constexpr (kFriction) {  // the examined candidates forget their springs, then keep these
       for (const CandidateSpan& span : spans_) {
@@ -834,6 +853,7 @@ void finishExactSums(SimulationState& s, std::size_t walls) {
   ContactScratch& out = s.contactScratch;
   ExactPowers& total = out.partPowers[0];
   for (std::size_t t = 1; t < out.partPowers.size(); ++t) total.merge(out.partPowers[t]);
+  if (s.ranks) total.mergeOverRanks(*s.ranks);
   ContactPowers powers;
   for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
     powers.energy[slot] = total.energy[slot].value();
@@ -1002,6 +1022,21 @@ void ExactPowers::clear(std::size_t walls) {
   reaction.assign(3 * walls, ExactSum());
   particleContacts = wallContacts = 0;
   tangentialEvaluations = 0;
+}
+
+void ExactPowers::mergeOverRanks(const Communicator& ranks) {
+  std::vector<ExactSum> sums(energy, energy + kEnergySlots);
+  sums.push_back(wallPower);
+  sums.insert(sums.end(), reaction.begin(), reaction.end());
+  ranks.mergeOverRanks(sums);
+  std::copy(sums.begin(), sums.begin() + kEnergySlots, energy);
+  wallPower = sums[kEnergySlots];
+  std::copy(sums.begin() + kEnergySlots + 1, sums.end(), reaction.begin());
+  std::vector<std::uint64_t> counts{particleContacts, wallContacts, tangentialEvaluations};
+  ranks.sumOverRanks(counts);
+  particleContacts = counts[0];
+  wallContacts = counts[1];
+  tangentialEvaluations = counts[2];
 }
 
 void ExactPowers::merge(const ExactPowers& other) {

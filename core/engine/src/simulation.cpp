@@ -320,18 +320,35 @@ void requireStableTangentialDamping(const Material& material, double dt, Integra
 
 ParticleSums particleSums(const SimulationState& s) {
   const Particles& p = s.particles;
+  const bool all = s.owned.empty();
   ParticleSums sums;
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!all && !s.owned[i]) continue;
     sums.translational.add(0.5 * p.mass[i] * p.velocity[i].squaredNorm());
     sums.potential.add(p.mass[i] * s.config.gravity.dot(p.position[i]));
+    if (s.frictional) sums.rotational.add(0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm());
   }
-  if (s.frictional) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      sums.rotational.add(0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm());
-    }
+  if (s.ranks) {
+    std::vector<ExactSum> merged{sums.translational, sums.rotational, sums.potential};
+    s.ranks->mergeOverRanks(merged);
+    sums = {merged[0], merged[1], merged[2]};
   }
   return sums;
 }
+
+namespace {
+
+/// The ledger's starting values: the stored energies of a force evaluation at the current
+/// state (which advances nothing) and the potential energy.
+void startLedger(SimulationState& s) {
+  computeContactForces(s, 0.0);
+  s.energy.initialPotential = particleSums(s).potential.value();
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+    s.energy.initialStored[slot] = s.powers.energy[slot];
+  }
+}
+
+}  // namespace
 
 // ---- Set-up -------------------------------------------------------------------------------
 
@@ -371,14 +388,10 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
 
   rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
   ++s.counters.rebuilds;
-  computeContactForces(s, 0.0);  // initial forces; dt = 0 leaves the springs as they are
+  startLedger(s);  // the initial forces too; dt = 0 leaves the springs as they are
   for (std::size_t i = 0; i < n; ++i) {
     s.translation.d2[i] = s.force[i] * (1.0 / p.mass[i]) + config.gravity;
     if (s.frictional) s.rotation.d2[i] = s.torque[i] * (1.0 / p.inertia(i));
-  }
-  s.energy.initialPotential = particleSums(s).potential.value();
-  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
-    s.energy.initialStored[slot] = s.powers.energy[slot];
   }
   // The step: chosen from the network, or a fixed one refused above it (physics.md §2.16).
   if (config.step.automatic) {
@@ -753,6 +766,19 @@ void Simulation::setThreads(int threads) {
 
 void Simulation::setExactSums(bool exact) {
   state_->config.exactSums = exact;
+}
+
+void Simulation::setOwnership(std::vector<std::uint8_t> owned,
+                              std::shared_ptr<const Communicator> ranks) {
+  SimulationState& s = *state_;
+  require(owned.size() == s.particles.size(),
+          "ownership: " + std::to_string(owned.size()) + " flags for " +
+              std::to_string(s.particles.size()) + " particles");
+  require(ranks != nullptr, "ownership: the ranks to merge over must be given");
+  s.owned = std::move(owned);
+  s.ranks = std::move(ranks);
+  s.config.exactSums = true;
+  if (s.steps == 0) startLedger(s);
 }
 
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {

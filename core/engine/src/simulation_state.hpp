@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "granular/communicator.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
@@ -215,6 +216,8 @@ struct ExactPowers {
   void clear(std::size_t walls);
   /// Adds another part's sums.
   void merge(const ExactPowers& other);
+  /// Merges every rank's sums into this one (the same on every rank).
+  void mergeOverRanks(const Communicator& ranks);
 };
 
 /// Results of the force pass kept between its phases and its blocks (ForcePlan).
@@ -277,6 +280,11 @@ struct SimulationState {
   /// state then holds the next step's prediction (never seen outside run) and whether a
   /// predicted position was not finite.
   bool predictedAhead = false, predictedBroken = false;
+  /// A run split among processes (Simulation::setOwnership): which particles this process
+  /// owns (1) or holds as ghosts (0), empty for all; and the ranks its sums are merged over
+  /// (null: this process alone).
+  std::vector<std::uint8_t> owned;
+  std::shared_ptr<const Communicator> ranks;
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
@@ -288,6 +296,7 @@ struct ParticleSums {
   ExactSum rotational;     ///< Σ ½ I ω² [J] (frictional only; 0 otherwise)
   ExactSum potential;      ///< Σ m g·x [J]
 };
+/// Over the particles this process owns, merged over the ranks.
 ParticleSums particleSums(const SimulationState& s);
 
 /// The engine's own files' way into a Simulation's state (checkpoint I/O, the network's bound).

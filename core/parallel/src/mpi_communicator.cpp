@@ -1,12 +1,12 @@
-/// The communicator on MPI (granular/communicator.hpp), and the MPI session. Built with or
-/// without MPI: without it (GRANULAR_WITH_MPI undefined) the session does nothing and the world
-/// is one process.
+/// The communicator on MPI (granular/communicator.hpp) and the MPI session
+/// (granular/mpi_session.hpp). Built with or without MPI: without it (GRANULAR_WITH_MPI
+/// undefined) the session does nothing and the world is one process.
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 
-#include "granular/communicator.hpp"
+#include "granular/mpi_session.hpp"
 
 #ifdef GRANULAR_WITH_MPI
 #include <mpi.h>
@@ -41,10 +41,10 @@ class MpiCommunicator final : public Communicator {
     check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, comm_), "MPI_Allreduce (or)");
     return out != 0;
   }
-  std::uint64_t sumOverRanks(std::uint64_t x) const override {
-    std::uint64_t out = 0;
-    check(MPI_Allreduce(&x, &out, 1, MPI_UINT64_T, MPI_SUM, comm_), "MPI_Allreduce (sum)");
-    return out;
+  void sumOverRanks(std::vector<std::uint64_t>& values) const override {
+    check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_UINT64_T,
+                        MPI_SUM, comm_),
+          "MPI_Allreduce (sum)");
   }
   void mergeOverRanks(std::vector<ExactSum>& sums) const override {
     // The carried words summed element by element (limbs and count) and the flags ORed: the

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "granular/communicator.hpp"
 #include "granular/contact_theory.hpp"
 #include "granular/material.hpp"
 #include "granular/particles.hpp"
@@ -249,6 +250,15 @@ class Simulation {
   /// Sums the energies and wall reactions exactly from the next force pass on
   /// (SimulationConfig::exactSums); the motion is the same bits either way.
   void setExactSums(bool exact);
+  /// For a run split among processes: `owned[i]` (one per particle) says whether this process
+  /// owns particle i (1) or holds a copy of it as a ghost (0); `ranks` are the processes whose
+  /// sums are merged. Each contact is then accounted for once over the ranks: a pair by the
+  /// owner of its first particle (the lower index), a wall contact by its particle's owner;
+  /// the energies, powers, wall reactions, contact counts and sums over the particles are
+  /// merged over `ranks` (exact sums, which this switches on), so every rank holds the whole
+  /// run's. Before the first step it also re-takes the ledger's starting values. Throws
+  /// ConfigError unless `owned` has one entry per particle and `ranks` is given.
+  void setOwnership(std::vector<std::uint8_t> owned, std::shared_ptr<const Communicator> ranks);
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.

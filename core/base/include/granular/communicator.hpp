@@ -1,9 +1,9 @@
 #pragma once
-/// The processes of a run split by space, as the engine's parallel layer sees them: a rank and a
-/// count, reductions that give the same bits on every rank and for any rank count, and the
-/// exchange of byte buffers between ranks. One implementation runs one process (always built);
-/// the other runs on MPI (built where CMake finds MPI, GRANULAR_MPI). Nothing here includes
-/// mpi.h, so the layer's users build without MPI's headers.
+/// The processes of a run split by space: a rank and a count, reductions that give the same
+/// bits on every rank and for any rank count, and the exchange of byte buffers between ranks.
+/// The interface lives in the base so that the engine can reduce over ranks; one process is
+/// implemented here (singleProcess), MPI in core/parallel (granular/mpi_session.hpp), the only
+/// code that includes mpi.h.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -26,8 +26,14 @@ class Communicator {
   virtual double maxOverRanks(double x) const = 0;
   /// Whether any rank passes true.
   virtual bool anyOverRanks(bool x) const = 0;
-  /// The sum of an integer over the ranks.
-  virtual std::uint64_t sumOverRanks(std::uint64_t x) const = 0;
+  /// Each integer summed over the ranks, in place.
+  virtual void sumOverRanks(std::vector<std::uint64_t>& values) const = 0;
+  /// One integer summed over the ranks.
+  std::uint64_t sumOverRanks(std::uint64_t x) const {
+    std::vector<std::uint64_t> v{x};
+    sumOverRanks(v);
+    return v[0];
+  }
   /// Merges the ranks' accumulators into each rank's (ExactSum::words): the same bits on every
   /// rank, whatever the split of the terms among them.
   virtual void mergeOverRanks(std::vector<ExactSum>& sums) const = 0;
@@ -45,24 +51,5 @@ class Communicator {
 
 /// One process: rank 0 of 1; every reduction returns its argument.
 std::unique_ptr<Communicator> singleProcess();
-
-/// Whether this build runs on MPI (GRANULAR_MPI).
-bool builtWithMpi();
-
-/// MPI for the life of the object: initialises it (threads funnelled through the main thread:
-/// OpenMP threads compute, only the main thread communicates) and finalises it. One per
-/// process, made first in main(). Without MPI it does nothing.
-class MpiSession {
- public:
-  MpiSession(int& argc, char**& argv);
-  ~MpiSession();
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-  /// The world's processes: MPI_COMM_WORLD, or singleProcess() without MPI.
-  std::unique_ptr<Communicator> world() const;
-  /// Ends every rank of the run at once with `code` (MPI_Abort): for an error one rank found
-  /// that the others cannot know of. Without MPI, exits the process.
-  [[noreturn]] static void abortAll(int code);
-};
 
 }  // namespace granular

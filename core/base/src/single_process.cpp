@@ -10,7 +10,7 @@ class SingleProcess final : public Communicator {
   int size() const override { return 1; }
   double maxOverRanks(double x) const override { return x; }
   bool anyOverRanks(bool x) const override { return x; }
-  std::uint64_t sumOverRanks(std::uint64_t x) const override { return x; }
+  void sumOverRanks(std::vector<std::uint64_t>&) const override {}
   void mergeOverRanks(std::vector<ExactSum>&) const override {}
   std::vector<std::vector<std::byte>> exchange(
       const std::vector<std::vector<std::byte>>& outgoing) const override {
