@@ -12,6 +12,7 @@
 #include "granular/error.hpp"
 #include "granular/packings.hpp"
 #include "physics_fixtures.hpp"
+#include "same_sums.hpp"
 
 using namespace granular;
 using granular::testing::fallingGrid;
@@ -161,18 +162,8 @@ TEST(Simulation, EnergiesAndReactionsDoNotDependOnHowTheContactsAreSplit) {
     thin.run(400);
     ASSERT_EQ(thin.stateHash(), wide.stateHash());
     ASSERT_NE(thin.counters().neighbourPairs, wide.counters().neighbourPairs);
-    const EnergyBalance a = wide.energy(), b = thin.energy();
-    ASSERT_EQ(a.contact.size(), b.contact.size());
-    for (std::size_t c = 0; c < a.contact.size(); ++c) {
-      EXPECT_EQ(a.contact[c].value, b.contact[c].value) << a.contact[c].column;
-    }
-    EXPECT_EQ(a.kineticTranslational, b.kineticTranslational);
-    EXPECT_EQ(a.kineticRotational, b.kineticRotational);
-    EXPECT_EQ(a.gravityWork, b.gravityWork);
-    EXPECT_GT(a.of("elastic_normal_J"), 0.0);
-    for (std::size_t w = 0; w < wide.walls().size(); ++w) {
-      EXPECT_EQ(wide.walls()[w].reaction, thin.walls()[w].reaction) << "wall " << w;
-    }
+    granular::testing::expectSameSums(wide, thin);
+    EXPECT_GT(wide.energy().of("elastic_normal_J"), 0.0);
   }
 }
 
