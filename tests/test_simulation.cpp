@@ -408,6 +408,8 @@ TEST(Simulation, OwnershipIsRefusedWithoutOneFlagPerParticleOrWithoutRanks) {
   const std::shared_ptr<const Communicator> one = singleProcess();
   EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(7, 1), one), ConfigError);
   EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(8, 1), nullptr), ConfigError);
+  EXPECT_THROW(sim.setGhostsFromOwners(true), ConfigError);
+  EXPECT_THROW(sim.refreshGhosts(), ConfigError);
   // Owning every particle on one process is the exact sums of the whole run.
   Simulation exact = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
   exact.setExactSums(true);

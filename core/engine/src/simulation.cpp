@@ -350,6 +350,39 @@ void startLedger(SimulationState& s) {
 
 }  // namespace
 
+void refreshGhosts(SimulationState& s) {
+  // One record per owned particle: its index, position, velocity and spin, to every other rank.
+  struct Record {
+    std::uint64_t index;
+    double x[3], v[3], w[3];
+  };
+  const Particles& p = s.particles;
+  std::vector<std::byte> mine;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!s.owned[i]) continue;
+    Record r{i, {}, {}, {}};
+    for (int a = 0; a < 3; ++a) {
+      r.x[a] = p.position[i][a];
+      r.v[a] = p.velocity[i][a];
+      r.w[a] = p.angularVelocity[i][a];
+    }
+    const auto* bytes = reinterpret_cast<const std::byte*>(&r);
+    mine.insert(mine.end(), bytes, bytes + sizeof r);
+  }
+  const Communicator& ranks = *s.ranks;
+  std::vector<std::vector<std::byte>> out(static_cast<std::size_t>(ranks.size()), mine);
+  out[static_cast<std::size_t>(ranks.rank())].clear();
+  for (const std::vector<std::byte>& in : ranks.exchange(out)) {
+    for (std::size_t at = 0; at + sizeof(Record) <= in.size(); at += sizeof(Record)) {
+      Record r;
+      std::memcpy(&r, in.data() + at, sizeof r);
+      s.particles.position[r.index] = Vec3(r.x[0], r.x[1], r.x[2]);
+      s.particles.velocity[r.index] = Vec3(r.v[0], r.v[1], r.v[2]);
+      s.particles.angularVelocity[r.index] = Vec3(r.w[0], r.w[1], r.w[2]);
+    }
+  }
+}
+
 // ---- Set-up -------------------------------------------------------------------------------
 
 Simulation::Simulation(Particles particles, std::vector<Wall> walls, const SimulationConfig& config)
@@ -458,7 +491,14 @@ void advance(SimulationState& s, bool predictNext) {
     };
     driftedFinite = (overRanges(n, threads, predict) & NotFinite::kPredicted) == 0;
   }
-  const double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
+  double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
+  if (s.refreshGhosts) {
+    // The ghosts' predictions came from their own (unforced) derivatives: their owners' replace
+    // them, and the largest move is taken again over true positions only. Every rank holds
+    // every particle, so it is the run's on each, and the ranks rebuild their lists together.
+    refreshGhosts(s);
+    maxMove2 = largestMove2(s.neighbours, p, 0, n);
+  }
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
   ++s.stepsSinceOrigin;
@@ -489,6 +529,15 @@ void advance(SimulationState& s, bool predictNext) {
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
     const double* accel = s.force.front().data();
     const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
+    if (s.refreshGhosts) {
+      // A ghost's force is the part its own contacts here give: dropped, so that what the
+      // corrector makes of it (overwritten by the owner's next prediction) stays finite.
+      for (std::size_t i = b; i < e; ++i) {
+        if (s.owned[i]) continue;
+        s.force[i] = Vec3::Zero();
+        if (rotating) s.torque[i] = Vec3::Zero();
+      }
+    }
     accelerationsRange(s.force, rotating ? &s.torque : nullptr, p, g, b, e);
     int notFinite = 0;  // NotFinite bits: this step's state, the next step's prediction
     if (predictNext) {
@@ -779,6 +828,19 @@ void Simulation::setOwnership(std::vector<std::uint8_t> owned,
   s.ranks = std::move(ranks);
   s.config.exactSums = true;
   if (s.steps == 0) startLedger(s);
+}
+
+void Simulation::setGhostsFromOwners(bool on) {
+  SimulationState& s = *state_;
+  require(!on || s.ranks != nullptr, "ghosts from owners: setOwnership first");
+  s.refreshGhosts = on;
+  s.predictedAhead = false;  // a prediction made without the refresh is made again
+}
+
+void Simulation::refreshGhosts() {
+  SimulationState& s = *state_;
+  require(s.ranks != nullptr, "refresh ghosts: setOwnership first");
+  granular::refreshGhosts(s);
 }
 
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {

@@ -285,6 +285,9 @@ struct SimulationState {
   /// (null: this process alone).
   std::vector<std::uint8_t> owned;
   std::shared_ptr<const Communicator> ranks;
+  /// Every rank holds every particle and integrates its own; after each prediction the ghosts
+  /// take their owners' position, velocity and spin (Simulation::setOwnership).
+  bool refreshGhosts = false;
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
@@ -298,6 +301,8 @@ struct ParticleSums {
 };
 /// Over the particles this process owns, merged over the ranks.
 ParticleSums particleSums(const SimulationState& s);
+/// Every rank's owned particles' position, velocity and spin to the other ranks' copies.
+void refreshGhosts(SimulationState& s);
 
 /// The engine's own files' way into a Simulation's state (checkpoint I/O, the network's bound).
 struct SimulationAccess {

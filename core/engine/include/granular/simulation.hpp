@@ -259,6 +259,15 @@ class Simulation {
   /// run's. Before the first step it also re-takes the ledger's starting values. Throws
   /// ConfigError unless `owned` has one entry per particle and `ranks` is given.
   void setOwnership(std::vector<std::uint8_t> owned, std::shared_ptr<const Communicator> ranks);
+  /// With ownership: every rank holds every particle and integrates only its own (a ghost's
+  /// force, the part of its contacts this rank sees, is dropped); after each prediction the
+  /// ghosts take their owners' position, velocity and spin, and the neighbour list is judged
+  /// stale by the largest move over the ranks. The owned particles then move as in one process,
+  /// to the bit. A first form of the split run, where a rank's ghosts are all the others.
+  void setGhostsFromOwners(bool on);
+  /// The ghosts take their owners' current position, velocity and spin now (e.g. before the
+  /// state is read or written whole).
+  void refreshGhosts();
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.
