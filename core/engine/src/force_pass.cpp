@@ -289,14 +289,35 @@ inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
   return {c.nx[e], c.ny[e], c.nz[e]};
 }
 
+/// The energy slots a build's pass sums: those of the terms it includes, but Slip accounts (a
+/// residual, not summed).
+template <bool kFriction, unsigned kOptional>
+struct SummedSlots {
+  static constexpr bool summed(std::size_t slot) {
+    return kEnergySlotTable[slot].kind != EnergyKind::Slip &&
+           kIncludedEnergySlots<kFriction, kOptional>[slot];
+  }
+  static constexpr std::size_t count = [] {
+    std::size_t n = 0;
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) n += summed(slot) ? 1 : 0;
+    return n;
+  }();
+  static constexpr std::array<std::size_t, count> slots = [] {
+    std::array<std::size_t, count> list{};
+    std::size_t n = 0;
+    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+      if (summed(slot)) list[n++] = slot;
+    }
+    return list;
+  }();
+};
+
 /// Adds the powers of the chunk's m contacts to `powers` in contact order (so the sums are the
 /// same for any thread count and any vector width).
 template <bool kFriction, unsigned kOptional>
 void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers) {
   for (std::size_t e = 0; e < m; ++e) {
-    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
-      if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;  // a residual, not summed
-      if (!kIncludedEnergySlots<kFriction, kOptional>[slot]) continue;
+    for (std::size_t slot : SummedSlots<kFriction, kOptional>::slots) {
       powers.energy[slot] += c.energyRows[slot][e];
     }
   }
@@ -355,24 +376,9 @@ class ParticleEnergies {
   }
 
  private:
-  /// Whether the force pass sums this slot (a Slip account is a residual, not summed).
-  static constexpr bool summed(std::size_t slot) {
-    return kEnergySlotTable[slot].kind != EnergyKind::Slip &&
-           kIncludedEnergySlots<kFriction, kOptional>[slot];
-  }
-  static constexpr std::size_t kSummed = [] {
-    std::size_t n = 0;
-    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) n += summed(slot) ? 1 : 0;
-    return n;
-  }();
-  static constexpr std::array<std::size_t, kSummed> kSlots = [] {
-    std::array<std::size_t, kSummed> slots{};
-    std::size_t n = 0;
-    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
-      if (summed(slot)) slots[n++] = slot;
-    }
-    return slots;
-  }();
+  static constexpr std::size_t kSummed = SummedSlots<kFriction, kOptional>::count;
+  static constexpr const std::array<std::size_t, kSummed>& kSlots =
+      SummedSlots<kFriction, kOptional>::slots;
 
   std::uint32_t particle_ = 0;
   bool open_ = false;
@@ -388,9 +394,7 @@ void addWallEnergies(const ContactChunk& c, std::size_t m, ExactPowers& powers,
   for (std::size_t e = 0; e < m; ++e) {
     if (owned != nullptr && !owned[who[e]]) continue;
     ++counted;
-    for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
-      if (kEnergySlotTable[slot].kind == EnergyKind::Slip) continue;
-      if (!kIncludedEnergySlots<kFriction, kOptional>[slot]) continue;
+    for (std::size_t slot : SummedSlots<kFriction, kOptional>::slots) {
       powers.energy[slot].add(c.energyRows[slot][e]);
     }
   }
