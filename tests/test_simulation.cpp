@@ -8,6 +8,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "granular/bricks.hpp"
 #include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "granular/packings.hpp"
@@ -408,8 +409,6 @@ TEST(Simulation, OwnershipIsRefusedWithoutOneFlagPerParticleOrWithoutRanks) {
   const std::shared_ptr<const Communicator> one = singleProcess();
   EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(7, 1), one), ConfigError);
   EXPECT_THROW(sim.setOwnership(std::vector<std::uint8_t>(8, 1), nullptr), ConfigError);
-  EXPECT_THROW(sim.setGhostsFromOwners(true), ConfigError);
-  EXPECT_THROW(sim.refreshGhosts(), ConfigError);
   // Owning every particle on one process is the exact sums of the whole run.
   Simulation exact = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
   exact.setExactSums(true);
@@ -419,4 +418,24 @@ TEST(Simulation, OwnershipIsRefusedWithoutOneFlagPerParticleOrWithoutRanks) {
   EXPECT_EQ(sim.stateHash(), exact.stateHash());
   EXPECT_EQ(sim.energy().of("elastic_normal_J"), exact.energy().of("elastic_normal_J"));
   EXPECT_EQ(sim.energy().of("dissipated_normal_J"), exact.energy().of("dissipated_normal_J"));
+}
+
+TEST(Simulation, SplitAmongDomainsOfAnotherRankCountIsRefused) {
+  Simulation sim = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
+  const std::shared_ptr<const Communicator> one = singleProcess();
+  EXPECT_THROW(sim.splitAmong(std::make_shared<Bricks>(2, Vec3::Zero(), Vec3::Ones()), one),
+               ConfigError);
+  EXPECT_THROW(sim.splitAmong(nullptr, one), ConfigError);
+  // One domain on one process: the run itself, and its whole state is itself.
+  Simulation alone = fallingGrid(2, 2, 2, frictional(Integrator::Gear5), 0.3);
+  alone.setExactSums(true);
+  sim.splitAmong(std::make_shared<Bricks>(1, Vec3::Zero(), Vec3::Ones()), one);
+  EXPECT_THROW(sim.splitAmong(std::make_shared<Bricks>(1, Vec3::Zero(), Vec3::Ones()), one),
+               ConfigError);
+  sim.run(2000);
+  alone.run(2000);
+  EXPECT_EQ(sim.wholeState().stateHash(), alone.stateHash());
+  EXPECT_EQ(sim.stateHash(), alone.stateHash());
+  EXPECT_EQ(sim.globalId(5), 5u);
+  EXPECT_TRUE(sim.owns(5));
 }

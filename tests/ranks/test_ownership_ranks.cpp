@@ -48,10 +48,10 @@ std::vector<std::uint8_t> ownership(const Simulation& sim, const BoxSpec& box, d
   return owned;
 }
 
-/// Runs the bed alone and split among the ranks (ghosts computed here, or taken from their
-/// owners), both integrators, with and without friction; compares them after the bed has
-/// fallen and landed (0.15 s) and twice 100 steps later.
-void compareSplitRuns(bool ghostsFromOwners) {
+/// Runs the bed alone and with its contacts accounted for among the ranks, both integrators,
+/// with and without friction; compares them after the bed has fallen and landed (0.15 s) and
+/// twice 100 steps later.
+void compareSplitRuns() {
   const Communicator& w = world();
   // The world outlives every simulation here: a shared pointer that does not own it.
   const std::shared_ptr<const Communicator> ranks(&w, [](const Communicator*) {});
@@ -61,12 +61,10 @@ void compareSplitRuns(bool ghostsFromOwners) {
       Simulation alone = bed(integrator, friction, box);
       Simulation split = bed(integrator, friction, box);
       split.setOwnership(ownership(split, box, friction), ranks);
-      split.setGhostsFromOwners(ghostsFromOwners);
       for (int k = 0; k < 3; ++k) {
         const std::uint64_t steps = k == 0 ? 1500 : 100;
         alone.run(steps);
         split.run(steps);
-        if (ghostsFromOwners) split.refreshGhosts();
         SCOPED_TRACE(::testing::Message() << "rank " << w.rank() << " of " << w.size() << ", "
                                           << (friction > 0 ? "frictional " : "frictionless ")
                                           << (integrator == Integrator::Gear5 ? "Gear5" : "Verlet")
@@ -88,12 +86,5 @@ void compareSplitRuns(bool ghostsFromOwners) {
 TEST(Ranks, EachContactIsAccountedForOnceOverTheRanks) {
   // Every rank computes every particle; each accounts for its own contacts and the sums are
   // merged.
-  compareSplitRuns(false);
-}
-
-TEST(Ranks, OwnedParticlesMoveAsInOneProcessWhenGhostsComeFromTheirOwners) {
-  // Each rank integrates only its own particles (a ghost's partial force dropped) and takes the
-  // others' positions, velocities and spins from their owners after every prediction: the
-  // whole state, gathered, is the one process's to the bit, and so are the sums.
-  compareSplitRuns(true);
+  compareSplitRuns();
 }

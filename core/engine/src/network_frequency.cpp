@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
+#include "domain_split.hpp"
 #include "force_pass.hpp"
 #include "network_bound.hpp"
 #include "simulation_state.hpp"
@@ -78,26 +80,34 @@ struct GainMatrix {
   }
 };
 
-/// The Collatz–Wielandt bound of a gain matrix, tightened one power sweep at a time.
+/// The Collatz–Wielandt bound of a gain matrix, tightened one power sweep at a time. In a run
+/// split by space (domain_split.hpp) each rank measures the rows of its own particles, whose
+/// links it holds whole and in one process's order, and its ghosts take their owners' x after
+/// each sweep: the bound and its row are the same bits as one process's.
 class PowerBound {
  public:
   /// The bound of sweep 0 (Gershgorin's).
-  explicit PowerBound(const GainMatrix& m)
-      : m_(m), x_(m.diagonal.size(), 1.0), y_(m.diagonal.size(), 0.0) {
+  PowerBound(const GainMatrix& m, const SimulationState& s)
+      : m_(m), s_(s), x_(m.diagonal.size(), 1.0), y_(m.diagonal.size(), 0.0) {
     measure();
   }
   /// One more sweep: x ← B x (scaled), and the bound again; the bound kept is the smallest.
   void next() {
     double scale = 0.0;
-    for (double v : y_) scale = std::max(scale, v);
+    for (std::size_t i = 0; i < y_.size(); ++i) scale = mine(i) ? std::max(scale, y_[i]) : scale;
+    if (split()) scale = s_.ranks->maxOverRanks(scale);
     if (!(scale > 0.0)) return;
     for (std::size_t i = 0; i < x_.size(); ++i) x_[i] = std::max(y_[i] / scale, 1e-300);
+    if (split()) refreshGhostValues(s_, x_);
     measure();
   }
   double value() const { return best_; }  ///< the bound on λ_max
+  /// The particle whose row sets it (its global id in a split run).
   std::size_t row() const { return row_; }
 
  private:
+  bool split() const { return s_.split.domains != nullptr; }
+  bool mine(std::size_t i) const { return s_.owned.empty() || s_.owned[i]; }
   void measure() {
     const std::size_t n = x_.size();
     for (std::size_t i = 0; i < n; ++i) y_[i] = m_.diagonal[i] * x_[i];
@@ -108,14 +118,24 @@ class PowerBound {
     // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
     double largest = 0.0;
     std::size_t at = 0;
+    bool found = false;
     for (std::size_t i = 0; i < n; ++i) {
       const double ratio = y_[i] / x_[i];
-      if (ratio > largest) largest = ratio, at = i;
+      if (mine(i) && ratio > largest) largest = ratio, at = i, found = true;
+    }
+    if (split()) {
+      // The first particle (by global id) of the largest ratio over the ranks, or particle 0.
+      const double run = s_.ranks->maxOverRanks(largest);
+      const double id = found && largest == run ? double(s_.split.globalId[at]) : 1e300;
+      at = run > 0.0 ? static_cast<std::size_t>(-s_.ranks->maxOverRanks(-id)) : 0;
+      largest = run;
     }
     if (first_ || largest < best_) best_ = largest, row_ = at;
     first_ = false;
   }
+
   const GainMatrix& m_;
+  const SimulationState& s_;
   std::vector<double> x_, y_;
   double best_ = 0.0;
   std::size_t row_ = 0;
@@ -146,6 +166,9 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     if (!hertz || !(u > 0.0)) return 0.0;
     return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
   };
+  // A split run counts a contact on the rank that owns its first particle.
+  auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
+  bool added = false;  // a contact added here
   // One contact between i and j (j = i: a wall), at overlap h.
   auto add = [&](std::size_t i, std::size_t j, double reduced, double mass, double h) {
     const bool wall = j == i;
@@ -165,9 +188,8 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     double smallest = k.normal > 0.0 ? ratio(c.normal, k.normal) : out.smallestDampingRatio;
     if (k.tangential > 0.0) smallest = std::min(smallest, ratio(c.tangential, k.tangential));
     if (rolling) smallest = std::min(smallest, material.rollingDamping);
-    out.smallestDampingRatio = out.contacts + out.approaching == 0
-                                   ? smallest
-                                   : std::min(out.smallestDampingRatio, smallest);
+    out.smallestDampingRatio = added ? std::min(out.smallestDampingRatio, smallest) : smallest;
+    added = true;
     if (wall) {
       stiffness.wall(i, contactGain(k, body(i, h), rotations));
       damping.wall(i, contactGain(c, body(i, h), rotations));
@@ -195,7 +217,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
           const double u = (p.velocity[i] - p.velocity[j]).dot(c.normal);
           add(i, j, reduced, mass, c.overlap + impactOverlap(mass, reduced, u));
         }
-        ++out.contacts;
+        out.contacts += mine(i) ? 1 : 0;
       },
       nullptr);
 
@@ -215,7 +237,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
         const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
         add(i, j, reduced, mass, impactOverlap(mass, reduced, u));
-        ++out.approaching;
+        out.approaching += mine(i) ? 1 : 0;
       }
     }
     for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
@@ -227,12 +249,23 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         const double u = -(p.velocity[i] - wall.velocity).dot(wall.normal);
         if (!(u > 0.0) || gap > u * lookahead) continue;
         add(i, i, p.radius[i], p.mass[i], impactOverlap(p.mass[i], p.radius[i], u));
-        ++out.approaching;
+        out.approaching += mine(i) ? 1 : 0;
       }
     }
   }
 
-  PowerBound k(stiffness), c(damping);
+  if (s.split.domains) {
+    // Sums and the least ratio over the ranks (each contact is on one rank or on two alike).
+    std::vector<std::uint64_t> counts{out.contacts, out.approaching};
+    s.ranks->sumOverRanks(counts);
+    out.contacts = counts[0];
+    out.approaching = counts[1];
+    const double least = -s.ranks->maxOverRanks(added ? -out.smallestDampingRatio
+                                                      : -std::numeric_limits<double>::infinity());
+    out.smallestDampingRatio =
+        std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
+  }
+  PowerBound k(stiffness, s), c(damping, s);
   auto fill = [&] {
     out.omegaMax = std::sqrt(k.value());
     out.particle = k.row();

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "domain_split.hpp"
 #include "force_pass.hpp"
 #include "granular/error.hpp"
 #include "integrators.hpp"
@@ -350,38 +351,19 @@ void startLedger(SimulationState& s) {
 
 }  // namespace
 
-void refreshGhosts(SimulationState& s) {
-  // One record per owned particle: its index, position, velocity and spin, to every other rank.
-  struct Record {
-    std::uint64_t index;
-    double x[3], v[3], w[3];
-  };
-  const Particles& p = s.particles;
-  std::vector<std::byte> mine;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!s.owned[i]) continue;
-    Record r{i, {}, {}, {}};
-    for (int a = 0; a < 3; ++a) {
-      r.x[a] = p.position[i][a];
-      r.v[a] = p.velocity[i][a];
-      r.w[a] = p.angularVelocity[i][a];
-    }
-    const auto* bytes = reinterpret_cast<const std::byte*>(&r);
-    mine.insert(mine.end(), bytes, bytes + sizeof r);
-  }
-  const Communicator& ranks = *s.ranks;
-  std::vector<std::vector<std::byte>> out(static_cast<std::size_t>(ranks.size()), mine);
-  out[static_cast<std::size_t>(ranks.rank())].clear();
-  for (const std::vector<std::byte>& in : ranks.exchange(out)) {
-    for (std::size_t at = 0; at + sizeof(Record) <= in.size(); at += sizeof(Record)) {
-      Record r;
-      std::memcpy(&r, in.data() + at, sizeof r);
-      s.particles.position[r.index] = Vec3(r.x[0], r.x[1], r.x[2]);
-      s.particles.velocity[r.index] = Vec3(r.v[0], r.v[1], r.v[2]);
-      s.particles.angularVelocity[r.index] = Vec3(r.w[0], r.w[1], r.w[2]);
-    }
-  }
+namespace {
+
+/// Rebuilds the neighbour list, carrying the springs.
+void rebuildList(SimulationState& s) {
+  // Split by space, the particles first go where they now belong, with their springs; the
+  // list is then rebuilt from what each rank holds (domain_split.hpp).
+  if (s.split.domains) redistribute(s);
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
+  if (s.split.domains) afterSplitRebuild(s);
+  ++s.counters.rebuilds;
 }
+
+}  // namespace
 
 // ---- Set-up -------------------------------------------------------------------------------
 
@@ -457,13 +439,15 @@ void advance(SimulationState& s, bool predictNext) {
   Particles& p = s.particles;
   const double dt = s.config.timeStep;
   const bool gear = s.config.integrator == Integrator::Gear5;
-  const std::size_t n = p.size();
+  // A split run's redistribution at a rebuild changes the particles held: n and the motions
+  // are taken again then.
+  std::size_t n = p.size();
   const int threads = s.config.threads;
   const std::size_t teams = static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads());
 
   // 1. Predict, translation and rotation in one pass over particle ranges.
-  const FlatMotion move = FlatMotion::of(&p.position, p.velocity, s.translation);
-  const FlatMotion turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
+  FlatMotion move = FlatMotion::of(&p.position, p.velocity, s.translation);
+  FlatMotion turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
   const bool rotating = s.frictional;
   // On the same ranges, each range's largest move since the neighbour list was built (a
   // maximum: the same in any split), so the staleness test needs no pass of its own.
@@ -492,12 +476,12 @@ void advance(SimulationState& s, bool predictNext) {
     driftedFinite = (overRanges(n, threads, predict) & NotFinite::kPredicted) == 0;
   }
   double maxMove2 = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
-  if (s.refreshGhosts) {
-    // The ghosts' predictions came from their own (unforced) derivatives: their owners' replace
-    // them, and the largest move is taken again over true positions only. Every rank holds
-    // every particle, so it is the run's on each, and the ranks rebuild their lists together.
-    refreshGhosts(s);
-    maxMove2 = largestMove2(s.neighbours, p, 0, n);
+  if (s.split.domains) {
+    // Split by space: the ghosts' predictions came from their own (unforced) derivatives, and
+    // their owners' replace them. The largest move is then taken again over true positions,
+    // and over the ranks, so that every rank rebuilds when one process would.
+    refreshSplitGhosts(s);
+    maxMove2 = s.ranks->maxOverRanks(largestMove2(s.neighbours, p, 0, n));
   }
   // 2. Walls.
   for (Wall& w : s.walls) w.point += w.velocity * dt;
@@ -506,9 +490,11 @@ void advance(SimulationState& s, bool predictNext) {
   // 3. Neighbours.
   bool rebuilt = false;
   if (s.rebuildEveryStep || neighbourListStale(s.neighbours, p, s.walls, maxMove2)) {
-    rebuildNeighbourList(s.neighbours, p, s.walls, s.frictional, threads);
-    ++s.counters.rebuilds;
+    rebuildList(s);
     rebuilt = true;
+    n = p.size();
+    move = FlatMotion::of(&p.position, p.velocity, s.translation);
+    turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
   }
   // The step is checked (and, automatic, chosen) after a rebuild, at most every
   // kStepsBetweenChecks steps (a settling bed rebuilds every few steps; a check costs about one
@@ -529,7 +515,7 @@ void advance(SimulationState& s, bool predictNext) {
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
     const double* accel = s.force.front().data();
     const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
-    if (s.refreshGhosts) {
+    if (s.split.domains) {
       // A ghost's force is the part its own contacts here give: dropped, so that what the
       // corrector makes of it (overwritten by the owner's next prediction) stays finite.
       for (std::size_t i = b; i < e; ++i) {
@@ -580,12 +566,14 @@ void advance(SimulationState& s, bool predictNext) {
   for (Wall& w : s.walls) w.impulse += w.reaction * dt;
   s.counters.particleContacts = now.particleContacts;
   s.counters.wallContacts = now.wallContacts;
-  s.counters.neighbourPairs = s.neighbours.second.size();
+  s.counters.neighbourPairs = s.split.domains ? s.split.pairs : s.neighbours.second.size();
   s.counters.tangentialEvaluations += now.tangentialEvaluations;
   StepCounters& c = s.counters;
   c.smallestStep = c.smallestStep > 0.0 ? std::min(c.smallestStep, dt) : dt;
   c.largestStep = std::max(c.largestStep, dt);
   if (checking) {
+    // The ghosts' corrections here came from their partial forces: the check sees their owners'.
+    if (s.split.domains) refreshSplitGhosts(s);
     checkStep(s);
   } else {
     ++s.stepsSinceCheck;
@@ -683,8 +671,7 @@ std::size_t Simulation::addWall(const Wall& wall) {
   SimulationState& s = *state_;
   s.walls.push_back(wall);
   s.neighbours.valid = false;  // the new wall needs its candidate list
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
-  ++s.counters.rebuilds;
+  rebuildList(s);
   return s.walls.size() - 1;
 }
 
@@ -775,8 +762,7 @@ void Simulation::setMaterial(const Material& material) {
     list.springs = PairSprings{};
     list.wallParticles.clear();
     list.wallHistory.clear();
-    rebuildNeighbourList(list, s.particles, s.walls, s.frictional, s.config.threads);
-    ++s.counters.rebuilds;
+    rebuildList(s);
   }
   // The accelerations under the new law, as a new simulation starts (springs kept: dt = 0).
   computeContactForces(s, 0.0);
@@ -814,7 +800,9 @@ void Simulation::setThreads(int threads) {
 }
 
 void Simulation::setExactSums(bool exact) {
-  state_->config.exactSums = exact;
+  SimulationState& s = *state_;
+  s.config.exactSums = exact;
+  if (s.steps == 0) startLedger(s);  // the starting values summed alike
 }
 
 void Simulation::setOwnership(std::vector<std::uint8_t> owned,
@@ -830,17 +818,27 @@ void Simulation::setOwnership(std::vector<std::uint8_t> owned,
   if (s.steps == 0) startLedger(s);
 }
 
-void Simulation::setGhostsFromOwners(bool on) {
+void Simulation::splitAmong(std::shared_ptr<const DomainMap> domains,
+                            std::shared_ptr<const Communicator> ranks) {
   SimulationState& s = *state_;
-  require(!on || s.ranks != nullptr, "ghosts from owners: setOwnership first");
-  s.refreshGhosts = on;
-  s.predictedAhead = false;  // a prediction made without the refresh is made again
+  splitState(s, std::move(domains), std::move(ranks));
+  if (s.steps == 0) startLedger(s);
 }
 
-void Simulation::refreshGhosts() {
-  SimulationState& s = *state_;
-  require(s.ranks != nullptr, "refresh ghosts: setOwnership first");
-  granular::refreshGhosts(s);
+Simulation Simulation::wholeState() const {
+  const SimulationState& s = *state_;
+  if (!s.split.domains) return Simulation(std::make_unique<SimulationState>(s));
+  return Simulation(gatherWhole(s));
+}
+
+std::uint64_t Simulation::globalId(std::size_t i) const {
+  const SimulationState& s = *state_;
+  return s.split.globalId.empty() ? i : s.split.globalId.at(i);
+}
+
+bool Simulation::owns(std::size_t i) const {
+  const SimulationState& s = *state_;
+  return s.owned.empty() || s.owned.at(i) != 0;
 }
 
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {

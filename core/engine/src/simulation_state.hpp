@@ -11,6 +11,7 @@
 
 #include "granular/communicator.hpp"
 #include "granular/contact_model.hpp"
+#include "granular/domain_map.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
 
@@ -245,6 +246,20 @@ struct EnergyAccumulators {
 
 // ---- 4. The state -------------------------------------------------------------------------
 
+/// A run split by space among processes (Simulation::splitAmong, domain_split.hpp): the domains,
+/// the particles' global ids, and who sends which ghosts to whom after each prediction.
+struct DomainSplit {
+  std::shared_ptr<const DomainMap> domains;  ///< null: the run is not split by space
+  std::vector<std::uint64_t> globalId;       ///< per particle held, ascending
+  /// Ghosts are the particles within this of a domain at a rebuild: the reach of the largest
+  /// pair, 2 R_max + skin, and a hair [m].
+  double halo = 0.0;
+  /// Per rank: the particles this rank owns that rank holds as ghosts, and the ghosts here that
+  /// rank owns, both ascending (so that messages need no ids).
+  std::vector<std::vector<std::uint32_t>> sendTo, receiveFrom;
+  std::uint64_t pairs = 0;  ///< the whole run's candidate pairs
+};
+
 struct SimulationState {
   SimulationConfig config;
   Particles particles;
@@ -285,9 +300,7 @@ struct SimulationState {
   /// (null: this process alone).
   std::vector<std::uint8_t> owned;
   std::shared_ptr<const Communicator> ranks;
-  /// Every rank holds every particle and integrates its own; after each prediction the ghosts
-  /// take their owners' position, velocity and spin (Simulation::setOwnership).
-  bool refreshGhosts = false;
+  DomainSplit split;
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;
@@ -301,8 +314,6 @@ struct ParticleSums {
 };
 /// Over the particles this process owns, merged over the ranks.
 ParticleSums particleSums(const SimulationState& s);
-/// Every rank's owned particles' position, velocity and spin to the other ranks' copies.
-void refreshGhosts(SimulationState& s);
 
 /// The engine's own files' way into a Simulation's state (checkpoint I/O, the network's bound).
 struct SimulationAccess {

@@ -12,6 +12,7 @@
 
 #include "granular/communicator.hpp"
 #include "granular/contact_theory.hpp"
+#include "granular/domain_map.hpp"
 #include "granular/material.hpp"
 #include "granular/particles.hpp"
 #include "granular/vec3.hpp"
@@ -259,15 +260,24 @@ class Simulation {
   /// run's. Before the first step it also re-takes the ledger's starting values. Throws
   /// ConfigError unless `owned` has one entry per particle and `ranks` is given.
   void setOwnership(std::vector<std::uint8_t> owned, std::shared_ptr<const Communicator> ranks);
-  /// With ownership: every rank holds every particle and integrates only its own (a ghost's
-  /// force, the part of its contacts this rank sees, is dropped); after each prediction the
-  /// ghosts take their owners' position, velocity and spin, and the neighbour list is judged
-  /// stale by the largest move over the ranks. The owned particles then move as in one process,
-  /// to the bit. A first form of the split run, where a rank's ghosts are all the others.
-  void setGhostsFromOwners(bool on);
-  /// The ghosts take their owners' current position, velocity and spin now (e.g. before the
-  /// state is read or written whole).
-  void refreshGhosts();
+  /// Splits the run by space among `ranks` (collective: every rank calls it on the same whole
+  /// state): from then on each rank holds the particles `domains` gives it and, as ghosts, the
+  /// others within the reach of a contact of its domain, in ascending global id (the index in
+  /// the whole state). Each step the ghosts take their owners' motion, and at each rebuild of
+  /// the neighbour list the particles move to the ranks where they now belong with their
+  /// contact springs. The motion, the springs, the energies, the walls' reactions and the
+  /// counters are the same bits as one process's on any number of ranks (docs/physics.md
+  /// §2.9). particles() is then this rank's share; wholeState() gathers the run. Throws
+  /// ConfigError if the domains are not one per rank, or on more than 64 walls.
+  void splitAmong(std::shared_ptr<const DomainMap> domains,
+                  std::shared_ptr<const Communicator> ranks);
+  /// The whole run's state (collective in a split run: every rank gets it, as one process
+  /// would hold it); a copy otherwise.
+  Simulation wholeState() const;
+  /// The global id of particle i of particles(): its index in the whole state.
+  std::uint64_t globalId(std::size_t i) const;
+  /// Whether this rank owns particle i of particles() (always, unless the run is split).
+  bool owns(std::size_t i) const;
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.

@@ -8,18 +8,19 @@
 #include <cstddef>
 #include <vector>
 
+#include "granular/domain_map.hpp"
 #include "granular/vec3.hpp"
 
 namespace granular {
 
-class Bricks {
+class Bricks : public DomainMap {
  public:
   /// `ranks` bricks over the box [lo, hi] (hi > lo on every axis; ranks >= 1): the counts
   /// nx ny nz = ranks with the least total area of cut planes, ties to more cuts along z, then
   /// y (a bed is deep before it is wide). Throws std::invalid_argument on a bad argument.
   Bricks(int ranks, const Vec3& lo, const Vec3& hi);
 
-  int ranks() const { return counts_[0] * counts_[1] * counts_[2]; }
+  int ranks() const override { return counts_[0] * counts_[1] * counts_[2]; }
   /// Bricks along x, y, z.
   const std::array<int, 3>& counts() const { return counts_; }
   /// The cut positions along an axis: counts()[axis] − 1 ascending values inside the box [m].
@@ -28,10 +29,10 @@ class Bricks {
   /// The rank whose brick holds x. A point on a cut plane belongs to the brick above it; a point
   /// outside the box to the nearest brick (the outer bricks reach to infinity), so that every
   /// particle has one owner wherever it goes.
-  int owner(const Vec3& x) const;
+  int owner(const Vec3& x) const override;
   /// The ranks whose bricks lie within `halo` of x [m], apart from x's own owner: the ranks
   /// that hold x as a ghost. Ascending.
-  std::vector<int> ghostRanks(const Vec3& x, double halo) const;
+  std::vector<int> ghostRanks(const Vec3& x, double halo) const override;
   /// Brick `rank`'s bounds, lo and hi (±infinity on the box's outer faces) [m].
   std::array<Vec3, 2> bounds(int rank) const;
 

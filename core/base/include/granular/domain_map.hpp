@@ -1,0 +1,24 @@
+#pragma once
+/// Where the particles of a run split by space live: each point of space in one rank's domain,
+/// and the ranks near a point that hold a copy of a particle there (its ghosts). The interface
+/// lives in the base so that the engine can split a run; the box cut into bricks
+/// (granular/bricks.hpp, core/parallel) implements it. Pure geometry: every rank answers alike
+/// for the same point, so every rank decides alike who owns and who copies a particle.
+#include <vector>
+
+#include "granular/vec3.hpp"
+
+namespace granular {
+
+class DomainMap {
+ public:
+  virtual ~DomainMap() = default;
+  /// How many ranks share the space.
+  virtual int ranks() const = 0;
+  /// The rank whose domain holds x; every point has one.
+  virtual int owner(const Vec3& x) const = 0;
+  /// The ranks other than owner(x) whose domains lie within `halo` of x [m], ascending.
+  virtual std::vector<int> ghostRanks(const Vec3& x, double halo) const = 0;
+};
+
+}  // namespace granular

@@ -1,0 +1,471 @@
+/// A run split by space among processes (domain_split.hpp). Sections: 1. records of the state;
+/// 2. assembling a state from records; 3. the split and the redistribution at rebuilds; 4. ghosts;
+/// 5. the whole state.
+#include "domain_split.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstring>
+#include <iterator>
+#include <stdexcept>
+#include <string>
+
+#include "granular/error.hpp"
+#include "pair_springs.hpp"
+
+namespace granular {
+namespace {
+
+// ---- 1. Records of the state --------------------------------------------------------------
+
+/// Walls a split run may have: a particle's wall candidacies are the bits of one word.
+constexpr std::size_t kMaxWalls = 64;
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw ConfigError(what);
+}
+
+std::uint64_t idOf(const SimulationState& s, std::size_t i) {
+  return s.split.globalId.empty() ? i : s.split.globalId[i];
+}
+
+/// The derivative arrays a state keeps: [motion][order - 2], null where it keeps none.
+std::array<std::array<const std::vector<Vec3>*, 4>, 2> derivativesOf(const SimulationState& s) {
+  std::array<std::array<const std::vector<Vec3>*, 4>, 2> out{};
+  const Derivatives* motions[2] = {&s.translation, &s.rotation};
+  for (int m = 0; m < 2; ++m) {
+    const Derivatives& d = *motions[m];
+    const std::vector<Vec3>* orders[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
+    for (int k = 0; k < 4; ++k) {
+      out[m][k] = orders[k]->size() == s.particles.size() ? orders[k] : nullptr;
+    }
+  }
+  return out;
+}
+
+void put3(double (&to)[3], const Vec3& v) {
+  for (int a = 0; a < 3; ++a) to[a] = v[a];
+}
+Vec3 get3(const double (&from)[3]) {
+  return Vec3(from[0], from[1], from[2]);
+}
+
+/// Appends the records of the particles `keep` selects, ascending, to `batch`.
+template <class Keep>
+void recordParticles(const SimulationState& s, Keep keep, RecordBatch& batch) {
+  const Particles& p = s.particles;
+  const NeighbourList& list = s.neighbours;
+  const auto derivatives = derivativesOf(s);
+  const bool torques = s.torque.size() == p.size();
+  const bool references = list.referencePosition.size() == p.size();
+  const std::size_t walls = list.wallParticles.size();
+  std::vector<std::size_t> cursor(walls, 0);  // per wall: the next candidate not yet passed
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    // Every wall's cursor passes the candidates below i, kept or not.
+    std::uint64_t candidate = 0;
+    std::size_t historyOf[kMaxWalls];
+    for (std::size_t w = 0; w < walls; ++w) {
+      const std::vector<std::uint32_t>& on = list.wallParticles[w];
+      while (cursor[w] < on.size() && on[cursor[w]] < i) ++cursor[w];
+      if (cursor[w] < on.size() && on[cursor[w]] == i) {
+        candidate |= std::uint64_t{1} << w;
+        historyOf[w] = cursor[w];
+      }
+    }
+    if (!keep(i)) continue;
+    ParticleRecord r{};
+    r.id = idOf(s, i);
+    put3(r.x, p.position[i]);
+    put3(r.v, p.velocity[i]);
+    put3(r.w, p.angularVelocity[i]);
+    r.radius = p.radius[i];
+    r.mass = p.mass[i];
+    for (int m = 0; m < 2; ++m) {
+      for (int k = 0; k < 4; ++k) {
+        if (derivatives[m][k]) put3(r.derivative[m][k], (*derivatives[m][k])[i]);
+      }
+    }
+    put3(r.force, s.force[i]);
+    if (torques) put3(r.torque, s.torque[i]);
+    if (references) {
+      for (int a = 0; a < 3; ++a) r.reference[a] = list.referencePosition[i][a];
+    }
+    r.wallCandidate = candidate;
+    r.wallHistoryAt = batch.wallSprings.size();
+    for (std::size_t w = 0; w < walls; ++w) {
+      if ((candidate >> w & 1) == 0 || !s.frictional) continue;
+      const bool held = w < list.wallHistory.size() && historyOf[w] < list.wallHistory[w].size();
+      batch.wallSprings.push_back(held ? list.wallHistory[w][historyOf[w]] : ContactHistory{});
+    }
+    batch.particles.push_back(r);
+  }
+}
+
+/// Calls pair(i, j, k, spring) for every candidate pair k = (i, j) of the list, ascending.
+template <class Visit>
+void forEachPair(const SimulationState& s, Visit pair) {
+  const NeighbourList& list = s.neighbours;
+  const bool springs = !list.springs.block.empty() && !list.blockWord.empty() &&
+                       list.springs.held.size() == list.blockWord.back();
+  SpringReader reader(list);
+  for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
+    for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+      pair(i, std::size_t{list.second[k]}, springs ? reader.at(k) : kNoSpring);
+    }
+  }
+}
+
+// ---- 2. Assembling a state ----------------------------------------------------------------
+
+/// Replaces the particles of `s`, their derivatives and forces and the neighbour list by those
+/// of the records (particles ascending by id, any pair among them). The list's skin, wall
+/// points, validity and rounding stay: the records come from one build of it.
+void assemble(SimulationState& s, RecordBatch& batch) {
+  std::vector<ParticleRecord>& records = batch.particles;
+  std::sort(records.begin(), records.end(),
+            [](const ParticleRecord& a, const ParticleRecord& b) { return a.id < b.id; });
+  const std::size_t n = records.size();
+  Particles& p = s.particles;
+  p.position.resize(n);
+  p.velocity.resize(n);
+  p.angularVelocity.resize(n);
+  p.radius.resize(n);
+  p.mass.resize(n);
+  s.force.resize(n);
+  if (!s.torque.empty()) s.torque.resize(n);
+  Derivatives* motions[2] = {&s.translation, &s.rotation};
+  std::vector<Vec3>* orders[2][4];
+  for (int m = 0; m < 2; ++m) {
+    Derivatives& d = *motions[m];
+    std::vector<Vec3>* all[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
+    for (int k = 0; k < 4; ++k) {
+      orders[m][k] = all[k]->empty() ? nullptr : all[k];
+      if (orders[m][k]) orders[m][k]->resize(n);
+    }
+  }
+  std::vector<std::uint64_t>& id = s.split.globalId;
+  id.resize(n);
+  NeighbourList& list = s.neighbours;
+  list.referencePosition.resize(n);
+  const std::size_t walls = s.walls.size();
+  const bool wallSprings = s.frictional;
+  std::vector<std::vector<std::uint32_t>> wallParticles(walls);
+  std::vector<std::vector<ContactHistory>> wallHistory(wallSprings ? walls : 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const ParticleRecord& r = records[i];
+    id[i] = r.id;
+    p.position[i] = get3(r.x);
+    p.velocity[i] = get3(r.v);
+    p.angularVelocity[i] = get3(r.w);
+    p.radius[i] = r.radius;
+    p.mass[i] = r.mass;
+    for (int m = 0; m < 2; ++m) {
+      for (int k = 0; k < 4; ++k) {
+        if (orders[m][k]) (*orders[m][k])[i] = get3(r.derivative[m][k]);
+      }
+    }
+    s.force[i] = get3(r.force);
+    if (!s.torque.empty()) s.torque[i] = get3(r.torque);
+    list.referencePosition[i] = Eigen::Vector3f(r.reference[0], r.reference[1], r.reference[2]);
+    std::size_t at = r.wallHistoryAt;
+    for (std::size_t w = 0; w < walls; ++w) {
+      if ((r.wallCandidate >> w & 1) == 0) continue;
+      wallParticles[w].push_back(static_cast<std::uint32_t>(i));
+      if (wallSprings) wallHistory[w].push_back(batch.wallSprings.at(at++));
+    }
+  }
+  // The pairs in local indices, sorted by (first, second) as the list keeps them.
+  auto local = [&](std::uint64_t of) {
+    const auto it = std::lower_bound(id.begin(), id.end(), of);
+    if (it == id.end() || *it != of) {
+      throw std::logic_error("split run: a pair names particle " + std::to_string(of) +
+                             ", which this rank does not hold");
+    }
+    return static_cast<std::uint32_t>(it - id.begin());
+  };
+  std::vector<PairRecord>& pairs = batch.pairs;
+  std::sort(pairs.begin(), pairs.end(), [](const PairRecord& a, const PairRecord& b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  });
+  std::vector<std::uint32_t> first(pairs.size());
+  list.second.resize(pairs.size());
+  std::vector<ContactHistory> springs;
+  if (s.frictional) springs.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    first[k] = local(pairs[k].first);
+    list.second[k] = local(pairs[k].second);
+    if (s.frictional) springs[k] = pairs[k].spring;
+  }
+  rowsFromFirst(list, first, n);
+  buildPairBlocks(list, n);
+  layOutPairSprings(list, springs, list.springs.optional);
+  list.wallParticles = std::move(wallParticles);
+  list.wallHistory = std::move(wallHistory);
+  list.plan.valid = false;
+  s.owned.assign(n, 1);
+}
+
+/// This rank's particles and the ghost maps (DomainSplit), from the positions now: a particle
+/// is this rank's if its domain holds it, and a ghost of the ranks within `halo`.
+void mapGhosts(SimulationState& s, double halo) {
+  const DomainMap& domains = *s.split.domains;
+  const int me = s.ranks->rank();
+  const std::size_t ranks = static_cast<std::size_t>(s.ranks->size());
+  s.split.sendTo.assign(ranks, {});
+  s.split.receiveFrom.assign(ranks, {});
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    const Vec3& x = s.particles.position[i];
+    const int owner = domains.owner(x);
+    s.owned[i] = owner == me ? 1 : 0;
+    const auto index = static_cast<std::uint32_t>(i);
+    if (owner != me) {
+      s.split.receiveFrom[static_cast<std::size_t>(owner)].push_back(index);
+      continue;
+    }
+    for (int r : domains.ghostRanks(x, halo)) {
+      s.split.sendTo[static_cast<std::size_t>(r)].push_back(index);
+    }
+  }
+}
+
+// ---- Bytes --------------------------------------------------------------------------------
+
+template <class T>
+void putArray(std::vector<std::byte>& out, const std::vector<T>& values) {
+  const std::uint64_t count = values.size();
+  const auto* head = reinterpret_cast<const std::byte*>(&count);
+  out.insert(out.end(), head, head + sizeof count);
+  const auto* bytes = reinterpret_cast<const std::byte*>(values.data());
+  out.insert(out.end(), bytes, bytes + values.size() * sizeof(T));
+}
+
+template <class T>
+void getArray(const std::vector<std::byte>& in, std::size_t& at, std::vector<T>& appendTo) {
+  std::uint64_t count = 0;
+  if (at + sizeof count > in.size()) throw std::logic_error("split run: a short message");
+  std::memcpy(&count, in.data() + at, sizeof count);
+  at += sizeof count;
+  if (count > (in.size() - at) / sizeof(T)) throw std::logic_error("split run: a short message");
+  const std::size_t before = appendTo.size();
+  appendTo.resize(before + count);
+  std::memcpy(static_cast<void*>(appendTo.data() + before), in.data() + at, count * sizeof(T));
+  at += count * sizeof(T);
+}
+
+std::vector<std::byte> serialise(const RecordBatch& batch) {
+  std::vector<std::byte> out;
+  putArray(out, batch.particles);
+  putArray(out, batch.wallSprings);
+  putArray(out, batch.pairs);
+  return out;
+}
+
+/// The batches every rank sent here, as one (wall springs re-indexed).
+RecordBatch merge(const std::vector<std::vector<std::byte>>& received) {
+  RecordBatch all;
+  for (const std::vector<std::byte>& bytes : received) {
+    if (bytes.empty()) continue;
+    std::size_t at = 0;
+    const std::size_t firstParticle = all.particles.size();
+    const std::uint64_t springBase = all.wallSprings.size();
+    getArray(bytes, at, all.particles);
+    getArray(bytes, at, all.wallSprings);
+    getArray(bytes, at, all.pairs);
+    for (std::size_t k = firstParticle; k < all.particles.size(); ++k) {
+      all.particles[k].wallHistoryAt += springBase;
+    }
+  }
+  return all;
+}
+
+/// The ranks that hold a particle at x after a rebuild: its owner and those it is a ghost of,
+/// ascending.
+std::vector<int> holders(const DomainMap& domains, const Vec3& x, double halo) {
+  std::vector<int> out = domains.ghostRanks(x, halo);
+  out.insert(std::upper_bound(out.begin(), out.end(), domains.owner(x)), domains.owner(x));
+  return out;
+}
+
+}  // namespace
+
+// ---- 3. The split and the redistribution --------------------------------------------------
+
+void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
+                std::shared_ptr<const Communicator> ranks) {
+  require(domains != nullptr && ranks != nullptr, "split: the domains and the ranks must be given");
+  require(domains->ranks() == ranks->size(), "split: " + std::to_string(domains->ranks()) +
+                                                 " domains for " + std::to_string(ranks->size()) +
+                                                 " ranks");
+  require(s.walls.size() <= kMaxWalls,
+          "split: " + std::to_string(s.walls.size()) + " walls; a split run takes at most 64");
+  require(s.split.domains == nullptr, "split: the run is split already");
+  s.split.domains = std::move(domains);
+  s.ranks = std::move(ranks);
+  const Particles& p = s.particles;
+  const double rMax = *std::max_element(p.radius.begin(), p.radius.end());
+  // A hair over the reach, for the rounding of the brick's cut planes against x ± halo.
+  s.split.halo = (2.0 * rMax + s.neighbours.skin) * (1.0 + 1e-9);
+  // The list stands as built: the partners of a particle are within the reach of where it
+  // was then, and each has moved less than half the skin since.
+  const double halo = s.split.halo + s.neighbours.skin;
+  const DomainMap& map = *s.split.domains;
+  const int me = s.ranks->rank();
+  std::vector<std::uint8_t> kept(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::vector<int> near = holders(map, p.position[i], halo);
+    kept[i] = std::binary_search(near.begin(), near.end(), me) ? 1 : 0;
+  }
+  RecordBatch batch;
+  recordParticles(
+      s, [&](std::size_t i) { return kept[i] != 0; }, batch);
+  forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
+    if (kept[i] && kept[j]) batch.pairs.push_back({idOf(s, i), idOf(s, j), spring});
+  });
+  s.split.pairs = s.neighbours.second.size();
+  assemble(s, batch);
+  mapGhosts(s, halo);
+  s.config.exactSums = true;
+  s.predictedAhead = false;
+}
+
+void redistribute(SimulationState& s) {
+  const DomainMap& domains = *s.split.domains;
+  const double halo = s.split.halo;
+  const Particles& p = s.particles;
+  const std::size_t n = p.size();
+  std::vector<std::vector<int>> near(n);
+  for (std::size_t i = 0; i < n; ++i) near[i] = holders(domains, p.position[i], halo);
+  const std::size_t ranks = static_cast<std::size_t>(s.ranks->size());
+  std::vector<RecordBatch> outgoing(ranks);
+  // Each rank sends what it owns: its particles, and the springs of the pairs they are first of
+  // to the ranks that will hold both.
+  RecordBatch mine;
+  recordParticles(
+      s, [&](std::size_t i) { return s.owned[i] != 0; }, mine);
+  for (std::size_t i = 0, k = 0; i < n; ++i) {
+    if (!s.owned[i]) continue;
+    const ParticleRecord& r = mine.particles[k++];
+    const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
+    for (int rank : near[i]) {
+      RecordBatch& to = outgoing[std::size_t(rank)];
+      to.particles.push_back(r);
+      to.particles.back().wallHistoryAt = to.wallSprings.size();
+      const auto from = mine.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
+      to.wallSprings.insert(to.wallSprings.end(), from, from + std::ptrdiff_t(springs));
+    }
+  }
+  if (s.frictional) {
+    std::vector<int> both;
+    forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
+      if (!s.owned[i] || !spring.holdsSomething()) return;
+      both.clear();
+      std::set_intersection(near[i].begin(), near[i].end(), near[j].begin(), near[j].end(),
+                            std::back_inserter(both));
+      for (int r : both) outgoing[std::size_t(r)].pairs.push_back({idOf(s, i), idOf(s, j), spring});
+    });
+  }
+  std::vector<std::vector<std::byte>> bytes(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) bytes[r] = serialise(outgoing[r]);
+  std::vector<RecordBatch>().swap(outgoing);
+  RecordBatch received = merge(s.ranks->exchange(bytes));
+  assemble(s, received);
+  mapGhosts(s, halo);
+}
+
+void afterSplitRebuild(SimulationState& s) {
+  NeighbourList& list = s.neighbours;
+  list.referenceRounding = s.ranks->maxOverRanks(list.referenceRounding);
+  std::uint64_t mine = 0;
+  for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
+    if (s.owned[i]) mine += list.rowStart[i + 1] - list.rowStart[i];
+  }
+  s.split.pairs = s.ranks->sumOverRanks(mine);
+}
+
+// ---- 4. Ghosts ----------------------------------------------------------------------------
+
+namespace {
+
+/// Sends `width` doubles per particle of sendTo and writes what comes back into receiveFrom's.
+template <class Put, class Get>
+void exchangeGhosts(const SimulationState& s, std::size_t width, Put put, Get get) {
+  const std::size_t ranks = s.split.sendTo.size();
+  std::vector<std::vector<std::byte>> out(ranks);
+  std::vector<double> values(width);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    out[r].resize(s.split.sendTo[r].size() * width * sizeof(double));
+    std::byte* at = out[r].data();
+    for (std::uint32_t i : s.split.sendTo[r]) {
+      put(i, values.data());
+      std::memcpy(at, values.data(), width * sizeof(double));
+      at += width * sizeof(double);
+    }
+  }
+  const std::vector<std::vector<std::byte>> in = s.ranks->exchange(out);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    const std::vector<std::uint32_t>& ghosts = s.split.receiveFrom[r];
+    if (in[r].size() != ghosts.size() * width * sizeof(double)) {
+      throw std::logic_error("split run: rank " + std::to_string(r) + " sent " +
+                             std::to_string(in[r].size()) + " bytes of ghosts for " +
+                             std::to_string(ghosts.size()));
+    }
+    const std::byte* at = in[r].data();
+    for (std::uint32_t g : ghosts) {
+      std::memcpy(values.data(), at, width * sizeof(double));
+      at += width * sizeof(double);
+      get(g, values.data());
+    }
+  }
+}
+
+}  // namespace
+
+void refreshSplitGhosts(SimulationState& s) {
+  Particles& p = s.particles;
+  exchangeGhosts(
+      s, 9,
+      [&](std::uint32_t i, double* v) {
+        for (int a = 0; a < 3; ++a) {
+          v[a] = p.position[i][a];
+          v[3 + a] = p.velocity[i][a];
+          v[6 + a] = p.angularVelocity[i][a];
+        }
+      },
+      [&](std::uint32_t g, const double* v) {
+        p.position[g] = Vec3(v[0], v[1], v[2]);
+        p.velocity[g] = Vec3(v[3], v[4], v[5]);
+        p.angularVelocity[g] = Vec3(v[6], v[7], v[8]);
+      });
+}
+
+void refreshGhostValues(const SimulationState& s, std::vector<double>& values) {
+  exchangeGhosts(
+      s, 1, [&](std::uint32_t i, double* v) { v[0] = values[i]; },
+      [&](std::uint32_t g, const double* v) { values[g] = v[0]; });
+}
+
+// ---- 5. The whole state -------------------------------------------------------------------
+
+std::unique_ptr<SimulationState> gatherWhole(const SimulationState& s) {
+  // Each rank's particles and the pairs they are first of: the owner of a pair's first particle
+  // holds its partner (a ghost within the halo), so the pairs are the whole list's.
+  RecordBatch mine;
+  recordParticles(
+      s, [&](std::size_t i) { return s.owned[i] != 0; }, mine);
+  forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
+    if (s.owned[i]) mine.pairs.push_back({idOf(s, i), idOf(s, j), spring});
+  });
+  const std::vector<std::vector<std::byte>> bytes(static_cast<std::size_t>(s.ranks->size()),
+                                                  serialise(mine));
+  RecordBatch all = merge(s.ranks->exchange(bytes));
+  auto whole = std::make_unique<SimulationState>(s);
+  assemble(*whole, all);
+  whole->split = DomainSplit{};
+  whole->owned.clear();
+  whole->ranks = nullptr;
+  whole->contactScratch = ContactScratch{};
+  return whole;
+}
+
+}  // namespace granular

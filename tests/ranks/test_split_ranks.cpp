@@ -1,0 +1,124 @@
+/// A run split by space (Simulation::splitAmong): each rank holds the particles of its brick and
+/// their ghosts, the particles move between ranks with their springs at the neighbour-list
+/// rebuilds, and the whole state, gathered, is one process's to the bit: its checkpoint file,
+/// byte for byte (positions, velocities, spins, the integrator's derivatives, the springs, the
+/// neighbour list, the ledger, the counters), on 1-4 ranks, both integrators, with and without
+/// friction, a moving wall, a fixed and an automatic step.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "granular/bricks.hpp"
+#include "granular/checkpoint.hpp"
+#include "granular/packings.hpp"
+#include "granular/scene.hpp"
+#include "granular/simulation.hpp"
+#include "ranks.hpp"
+#include "same_sums.hpp"
+
+using namespace granular;
+using granular::testing::world;
+
+namespace {
+
+struct Case {
+  Integrator integrator;
+  double friction;
+  bool automaticStep;
+};
+
+Simulation bed(const Case& c, BoxSpec& box) {
+  Particles p = denseRandomPacking(400, 0.030, 0.035, 500.0, 9, &box, PackingLayout{});
+  SimulationConfig cfg;
+  cfg.material.friction = c.friction;
+  cfg.material.normalLaw = NormalLaw::Hertz;
+  cfg.integrator = c.integrator;
+  cfg.timeStep = 1e-4;
+  cfg.step.automatic = c.automaticStep;
+  cfg.threads = 1;
+  cfg.exactSums = true;
+  Simulation sim(std::move(p), buildWalls(box), cfg);
+  sim.setWallVelocity(static_cast<std::size_t>(sim.findWall("x+")), Vec3(-0.05, 0, 0));
+  return sim;
+}
+
+std::string bytesOf(const Simulation& sim, const std::string& name) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("granular_split_" + std::to_string(::getpid()) + name);
+  writeCheckpoint(sim, file, 0);
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(file);
+  return bytes;
+}
+
+/// Whose particles a rank holds now: every particle owned once over the ranks.
+void expectEachOwnedOnce(const Simulation& split, std::size_t whole) {
+  std::uint64_t mine = 0;
+  for (std::size_t i = 0; i < split.particles().size(); ++i) mine += split.owns(i) ? 1 : 0;
+  EXPECT_EQ(world().sumOverRanks(mine), whole);
+  if (world().size() > 1) {
+    EXPECT_LT(split.particles().size(), whole);  // a share, not all
+  }
+}
+
+void compareSplitBySpace(const Case& c) {
+  const Communicator& w = world();
+  // The world outlives every simulation here: a shared pointer that does not own it.
+  const std::shared_ptr<const Communicator> ranks(&w, [](const Communicator*) {});
+  BoxSpec box;
+  Simulation alone = bed(c, box);
+  Simulation split = bed(c, box);
+  split.splitAmong(std::make_shared<Bricks>(w.size(), box.min, box.max), ranks);
+  for (int k = 0; k < 3; ++k) {
+    const std::uint64_t steps = k == 0 ? 1500 : 100;
+    alone.run(steps);
+    split.run(steps);
+    SCOPED_TRACE(::testing::Message()
+                 << "rank " << w.rank() << " of " << w.size() << ", "
+                 << (c.friction > 0 ? "frictional " : "frictionless ")
+                 << (c.integrator == Integrator::Gear5 ? "Gear5" : "Verlet")
+                 << (c.automaticStep ? ", automatic step" : "") << ", step " << split.stepCount());
+    const Simulation whole = split.wholeState();
+    ASSERT_EQ(whole.particles().size(), alone.particles().size());
+    ASSERT_EQ(whole.stateHash(), alone.stateHash());
+    EXPECT_TRUE(bytesOf(whole, "_whole.bin") == bytesOf(alone, "_alone.bin"))
+        << "the checkpoints differ";
+    granular::testing::expectSameSums(alone, split);
+    EXPECT_EQ(split.kineticEnergy(), alone.kineticEnergy());
+    EXPECT_EQ(split.time(), alone.time());
+    EXPECT_EQ(split.counters().rebuilds, alone.counters().rebuilds);
+    EXPECT_EQ(split.counters().neighbourPairs, alone.counters().neighbourPairs);
+    EXPECT_EQ(split.counters().stepChecks, alone.counters().stepChecks);
+    EXPECT_EQ(split.stepCheck().omegaMax, alone.stepCheck().omegaMax);
+    EXPECT_EQ(split.stepCheck().particle, alone.stepCheck().particle);
+    EXPECT_EQ(split.stepCheck().contacts, alone.stepCheck().contacts);
+    expectEachOwnedOnce(split, alone.particles().size());
+    EXPECT_NE(alone.energy().wallWork, 0.0);  // the moving wall works on the bed
+    EXPECT_GT(alone.counters().particleContacts, 300u);
+    EXPECT_GT(alone.counters().rebuilds, 20u);  // particles have changed hands
+  }
+}
+
+}  // namespace
+
+TEST(Ranks, SplitBySpaceFrictionlessIsOneProcessToTheBit) {
+  for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    compareSplitBySpace({integrator, 0.0, false});
+  }
+}
+
+TEST(Ranks, SplitBySpaceFrictionalIsOneProcessToTheBit) {
+  for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    compareSplitBySpace({integrator, 0.3, false});
+  }
+}
+
+TEST(Ranks, SplitBySpaceWithAnAutomaticStepIsOneProcessToTheBit) {
+  // The step is chosen from the contact network's bound, whose power sweeps cross the ranks.
+  compareSplitBySpace({Integrator::VelocityVerlet, 0.3, true});
+}
