@@ -1,5 +1,8 @@
 #include "command_line.hpp"
 
+#include <iostream>
+#include <sstream>
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -60,7 +63,7 @@ std::size_t editDistance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-CommandLine::CommandLine() {
+CommandLine::CommandLine(std::shared_ptr<const Communicator> ranks) : ranks_(std::move(ranks)) {
   app_.require_subcommand(1);
 
   runCommand_ = app_.add_subcommand("run", "Run every stage of a scene, writing its outputs");
@@ -134,6 +137,11 @@ CommandLine::CommandLine() {
 }
 
 int CommandLine::run(int argc, char** argv) {
+  // Under mpirun every rank parses alike; only rank 0 says what is wrong.
+  const bool root = !ranks_ || ranks_->rank() == 0;
+  std::ostringstream silenced;
+  std::ostream& out = root ? std::cout : silenced;
+  std::ostream& err = root ? std::cerr : silenced;
   // A mistyped command would otherwise be taken for a stray argument ("A subcommand is
   // required"): name it and the nearest command.
   const std::vector<CLI::App*> commands = app_.get_subcommands([](CLI::App*) { return true; });
@@ -153,17 +161,22 @@ int CommandLine::run(int argc, char** argv) {
             ? "; the accuracy benchmark is the program granular_bench_accuracy "
               "(build/release/bench/granular_bench_accuracy --help)"
             : (best <= 2 ? "; did you mean '" + nearest + "'?" : std::string());
-    std::cerr << "error: unknown command '" << argv[1] << "'" << hint << " (commands: " << all
-              << "; granular --help)\n";
+    err << "error: unknown command '" << argv[1] << "'" << hint << " (commands: " << all
+        << "; granular --help)\n";
     return 2;
   }
   try {
     app_.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     // --help exits 0; a usage error gets 2 like an invalid scene, the caller's mistake.
-    return app_.exit(e) == 0 ? 0 : 2;
+    return app_.exit(e, out, err) == 0 ? 0 : 2;
   }
-  if (*runCommand_) return runCommand(run_);
+  if (*runCommand_) {
+    run_.ranks = ranks_;
+    return runCommand(run_);
+  }
+  // The other commands run on one process: under mpirun, rank 0 alone.
+  if (!root) return 0;
   if (*paperCommand_) return paperCommand(paper_);
   if (*calibrateCommand_) return calibrateCommand(calibrate_);
   if (*figuresCommand_) return figuresCommand(figuresDir_);

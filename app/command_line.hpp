@@ -3,8 +3,10 @@
 /// dispatches and the tests can walk the same tree (help completeness, docs/guide.md's reference).
 #include <CLI/CLI.hpp>
 #include <filesystem>
+#include <memory>
 
 #include "calibrate_command.hpp"
+#include "granular/communicator.hpp"
 #include "paper_command.hpp"
 #include "run_command.hpp"
 
@@ -12,7 +14,8 @@ namespace granular::app {
 
 class CommandLine {
  public:
-  CommandLine();
+  /// `ranks`: the processes of an MPI run (main, when mpirun started it), or null alone.
+  explicit CommandLine(std::shared_ptr<const Communicator> ranks = nullptr);
   CommandLine(const CommandLine&) = delete;
   CommandLine& operator=(const CommandLine&) = delete;
 
@@ -23,6 +26,7 @@ class CommandLine {
   int run(int argc, char** argv);
 
  private:
+  std::shared_ptr<const Communicator> ranks_;
   CLI::App app_{"granular: discrete-element simulation of spheres in a box"};
   RunOptions run_;
   PaperOptions paper_;

@@ -86,10 +86,10 @@ namespace {
 /// The particle-state table into `out`; `suffix` ends every row (after the mass) and
 /// `extraColumns` the header.
 void particleTable(std::ostream& out, const Particles& particles, const std::string& extraColumns,
-                   const std::string& suffix) {
+                   const std::string& suffix, const std::vector<std::uint64_t>* ids = nullptr) {
   out << "id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass" << extraColumns << "\n";
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    out << i;
+    out << (ids ? (*ids)[i] : i);
     for (const Vec3* v :
          {&particles.position[i], &particles.velocity[i], &particles.angularVelocity[i]}) {
       out << ',' << csvNumber(v->x()) << ',' << csvNumber(v->y()) << ',' << csvNumber(v->z());
@@ -101,9 +101,10 @@ void particleTable(std::ostream& out, const Particles& particles, const std::str
 
 }  // namespace
 
-void writeParticleState(const std::filesystem::path& path, const Particles& particles) {
+void writeParticleState(const std::filesystem::path& path, const Particles& particles,
+                        const std::vector<std::uint64_t>* ids) {
   AtomicFile file(path);
-  particleTable(file.stream(), particles, "", "");
+  particleTable(file.stream(), particles, "", "", ids);
   file.commit();
 }
 

@@ -44,7 +44,9 @@ class TimeSeriesWriter {
 
 /// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into
 /// place, so a reader never sees half a file.
-void writeParticleState(const std::filesystem::path& path, const Particles& particles);
+/// `ids`: each particle's id (a rank's share of a split run), else its index.
+void writeParticleState(const std::filesystem::path& path, const Particles& particles,
+                        const std::vector<std::uint64_t>* ids = nullptr);
 /// The same columns, then step and time_s: the step the state was written at and the simulation
 /// clock, the same on every row (a snapshot's name gives the step only).
 void writeParticleSnapshot(const std::filesystem::path& path, const Simulation& sim);

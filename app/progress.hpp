@@ -4,14 +4,17 @@
 #include <chrono>
 #include <cstdint>
 
+#include "granular/communicator.hpp"
 #include "granular/stage.hpp"
 
 namespace granular::app {
 
 class ProgressReporter {
  public:
-  /// `enabled` false silences it (--quiet).
-  explicit ProgressReporter(bool enabled);
+  /// `enabled` false silences it (--quiet). Under mpirun (`ranks`) every rank calls it alike:
+  /// rank 0's clock decides when a line is due, every rank takes part in the kinetic energy it
+  /// shows, and rank 0 prints it.
+  explicit ProgressReporter(bool enabled, const Communicator* ranks = nullptr);
   ~ProgressReporter() { finish(); }
   ProgressReporter(const ProgressReporter&) = delete;
   ProgressReporter& operator=(const ProgressReporter&) = delete;
@@ -25,6 +28,7 @@ class ProgressReporter {
   using Clock = std::chrono::steady_clock;
 
   bool enabled_;
+  const Communicator* ranks_;
   bool terminal_;
   Clock::duration period_;
   Clock::time_point lastPrint_;

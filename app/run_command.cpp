@@ -6,9 +6,12 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -16,8 +19,10 @@
 
 #include "contact_csv.hpp"
 #include "csv_output.hpp"
+#include "granular/bricks.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
+#include "granular/mpi_session.hpp"
 #include "granular/run_checks.hpp"
 #include "granular/scene.hpp"
 #include "granular/scene_fingerprint.hpp"
@@ -156,7 +161,8 @@ CheckpointContents readResumable(const std::filesystem::path& checkpoint,
 }
 
 Start startOrResume(const RunOptions& options, const Scene& scene,
-                    const SceneFingerprint& fingerprint, const std::filesystem::path& checkpoint) {
+                    const SceneFingerprint& fingerprint, const std::filesystem::path& checkpoint,
+                    bool root) {
   if (options.resume && std::filesystem::exists(checkpoint)) {
     CheckpointContents c = readResumable(checkpoint, fingerprint);
     RunProgress progress = decodeRunProgress(c.appData, checkpoint.string());
@@ -167,7 +173,7 @@ Start startOrResume(const RunOptions& options, const Scene& scene,
     }
     return {std::move(c.simulation), std::move(progress), true};
   }
-  if (options.resume) {
+  if (options.resume && root) {
     std::cout << "no checkpoint " << checkpoint.string() << ": starting from the beginning\n";
   }
   return {buildSimulation(scene), RunProgress{}, false};
@@ -185,46 +191,120 @@ Start startOrResume(const RunOptions& options, const Scene& scene,
           options.scene.string() + " --out " + outDir.string() + " --resume");
 }
 
-int runScene(const RunOptions& options) {
-  catchStopSignals();
-  const auto started = std::chrono::steady_clock::now();
+/// What a run starts from: its scene, output folder and state.
+struct Prepared {
+  Scene scene;
+  SceneFingerprint fingerprint;
+  std::optional<std::pair<std::uint64_t, std::size_t>> fault;
+  std::filesystem::path outDir, checkpoint;
+  Start start;
+};
+
+Prepared prepare(const RunOptions& options, bool root) {
   if (!(options.checkpointEvery >= 0.0)) {
     throw ConfigError("--checkpoint-every must be >= 0 seconds (0: no checkpoints)");
   }
-  const Scene scene = loadScene(options.scene);
+  Scene scene = loadScene(options.scene);
   // The scene's values and the bytes of its particle files: a checkpoint of this scene before
   // an edit that changes the run is refused, an edit of a comment is not.
-  const SceneFingerprint fingerprint = fingerprintScene(scene);
+  SceneFingerprint fingerprint = fingerprintScene(scene);
   const auto fault = injectedFault();
-
   const std::filesystem::path outDir = options.outDir.empty()
                                            ? std::filesystem::path("runs") / options.scene.stem()
                                            : options.outDir;
-  createOutputFolder(outDir);
+  if (root) createOutputFolder(outDir);
   const std::filesystem::path checkpoint = outDir / "checkpoint.bin";
-  Start start = startOrResume(options, scene, fingerprint, checkpoint);
+  Start start = startOrResume(options, scene, fingerprint, checkpoint, root);
+  return {std::move(scene), std::move(fingerprint), fault, outDir, checkpoint, std::move(start)};
+}
+
+/// Under mpirun every rank prepares alike, and none goes on if one failed (a file it could not
+/// read): the lowest failing rank says why, and every rank ends with its status.
+void agreeOnSetup(const Communicator* ranks, const std::exception_ptr& failed) {
+  if (!ranks) {
+    if (failed) std::rethrow_exception(failed);
+    return;
+  }
+  const std::string mine =
+      failed ? std::to_string(ranks->rank()) + " " + std::to_string(reportOf(failed).status) : "";
+  const std::string first = ranks->firstOverRanks(mine);
+  if (first.empty()) return;
+  if (first == mine) std::rethrow_exception(failed);
+  throw SilentExit{std::stoi(first.substr(first.find(' ') + 1))};
+}
+
+/// The box cut into one brick per rank, each holding about as many particles (bricks.hpp).
+std::shared_ptr<const DomainMap> bricksFor(const Scene& scene, const Simulation& sim, int ranks) {
+  auto bricks = std::make_shared<Bricks>(ranks, scene.box.min, scene.box.max);
+  const std::vector<double>& radius = sim.particles().radius;
+  bricks->balance(sim.particles().position, 2.0 * *std::max_element(radius.begin(), radius.end()));
+  return bricks;
+}
+
+int runScene(const RunOptions& options) {
+  catchStopSignals();
+  const auto started = std::chrono::steady_clock::now();
+  const Communicator* ranks = options.ranks.get();
+  const bool root = !ranks || ranks->rank() == 0;
+  std::optional<Prepared> prepared;
+  {
+    std::exception_ptr failed;
+    try {
+      prepared.emplace(prepare(options, root));
+    } catch (...) {
+      failed = std::current_exception();
+    }
+    agreeOnSetup(ranks, failed);
+  }
+  const Scene& scene = prepared->scene;
+  const SceneFingerprint& fingerprint = prepared->fingerprint;
+  const auto& fault = prepared->fault;
+  const std::filesystem::path& outDir = prepared->outDir;
+  const std::filesystem::path& checkpoint = prepared->checkpoint;
+  Start& start = prepared->start;
   Simulation& sim = start.sim;
   RunProgress& progress = start.progress;
+  // Only rank 0 prints to stdout and writes files.
+  std::ostringstream elsewhere;
+  std::ostream& out = root ? std::cout : elsewhere;
   if (start.resumed) {
-    std::cout << "resuming " << checkpoint.string() << " at t = " << format("%.9g", sim.time())
-              << " s, step " << sim.stepCount() << ", stage "
-              << std::min(progress.stage + 1, scene.stages.size()) << " of " << scene.stages.size()
-              << "\n";
+    out << "resuming " << checkpoint.string() << " at t = " << format("%.9g", sim.time())
+        << " s, step " << sim.stepCount() << ", stage "
+        << std::min(progress.stage + 1, scene.stages.size()) << " of " << scene.stages.size()
+        << "\n";
   }
   if (progress.stage == scene.stages.size()) {
-    std::cout << "the run in " << outDir.string() << " is already complete\n";
+    out << "the run in " << outDir.string() << " is already complete\n";
     return 0;
   }
-  printHeader(std::cout, scene, sim, outDir);
+  printHeader(out, scene, sim, outDir);
+  // Under mpirun the run is split by space: each rank steps the particles of its brick, and
+  // the whole state is gathered for the files (Simulation::splitAmong).
+  if (ranks) sim.splitAmong(bricksFor(scene, sim, ranks->size()), options.ranks);
 
   const std::filesystem::path seriesPath = outDir / "timeseries.csv";
   std::optional<TimeSeriesWriter> series;
-  if (start.resumed) {
+  if (!root) {
+  } else if (start.resumed) {
     series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes);
   } else {
     series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material);
   }
-  ProgressReporter reporter(!options.quiet);
+  // A file written from the whole state: gathered from every rank in a split run.
+  auto withWhole = [&](const Simulation& s, const std::function<void(const Simulation&)>& write) {
+    if (!s.ranks()) {
+      write(s);
+      return;
+    }
+    const Simulation whole = s.wholeState();
+    if (root) write(whole);
+  };
+  // A stop signal reaches the ranks at different steps: they stop together at the first of them.
+  auto stopped = [&] {
+    const bool mine = stopSignal() != 0;
+    return ranks ? ranks->anyOverRanks(mine) : mine;
+  };
+  ProgressReporter reporter(!options.quiet, ranks);
   // The run checks itself at each sample (energy balance, particles outside the box): a
   // warning on stderr and in summary.txt, or exit 3 under on_failed_check = "stop".
   RunChecks checks(scene.output.checks, scene.box,
@@ -239,9 +319,13 @@ int runScene(const RunOptions& options) {
   std::optional<std::pair<double, std::uint64_t>> lastGood;  // its time and step
   auto save = [&](const Simulation& s) {
     // The checkpoint counts the series' bytes: they must be on the disk before it is.
-    series->sync();
-    progress.seriesBytes = series->bytes();
-    writeCheckpoint(s, checkpoint, fingerprint, encodeRunProgress(progress));
+    if (series) {
+      series->sync();
+      progress.seriesBytes = series->bytes();
+    }
+    withWhole(s, [&](const Simulation& whole) {
+      writeCheckpoint(whole, checkpoint, fingerprint, encodeRunProgress(progress));
+    });
     lastWritten = std::chrono::steady_clock::now();
     lastGood = std::pair{s.time(), s.stepCount()};
   };
@@ -251,7 +335,11 @@ int runScene(const RunOptions& options) {
       const StageSpec& stage = scene.stages[k];
       StageObserver observer;
       observer.onSample = [&](const Simulation& s) {
-        series->write(stage.name, s);
+        if (series) {
+          series->write(stage.name, s);
+        } else {
+          (void)s.energy();  // the row's energies: every rank takes part in their sums
+        }
         if (s.counters().unstableChecks > 0 && !unstableReported) {
           // on_unstable = "warn": said once; the summary gives the count.
           unstableReported = true;
@@ -262,19 +350,21 @@ int runScene(const RunOptions& options) {
               " s at t = " + format("%.6g", c.time) + " s, particle " + std::to_string(c.particle) +
               "); the run goes on (on_unstable = \"warn\") and may gain energy";
           reporter.finish();
-          std::cerr << "warning: " << warning << "\n";
+          if (root) std::cerr << "warning: " << warning << "\n";
           warnings.push_back(warning);
         }
         for (const std::string& warning : checks.atSample(s, stage.name)) {
           reporter.finish();
-          std::cerr << "warning: " << warning << "\n";
+          if (root) std::cerr << "warning: " << warning << "\n";
           warnings.push_back(warning);
         }
       };
       observer.onSnapshot = [&](const Simulation& s, double) {
-        writeParticleSnapshot(snapshotPath(outDir, "snapshot", stage.name, s.stepCount()), s);
-        writeContactCsv(snapshotPath(outDir, "contacts", stage.name, s.stepCount()), s);
-        writeParaviewSnapshot(outDir, scene, progress, k, s);
+        withWhole(s, [&](const Simulation& whole) {
+          writeParticleSnapshot(snapshotPath(outDir, "snapshot", stage.name, s.stepCount()), whole);
+          writeContactCsv(snapshotPath(outDir, "contacts", stage.name, s.stepCount()), whole);
+          writeParaviewSnapshot(outDir, scene, progress, k, whole);
+        });
       };
       observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
         reporter.update(s, st);
@@ -285,19 +375,25 @@ int runScene(const RunOptions& options) {
       observer.onCheckpoint = [&](const Simulation& s, const StageProgress& p) {
         // An automatic step's stage offers a checkpoint only every 100 steps or more.
         const bool offered = s.config().step.automatic || p.steps % 100 == 0;
-        if (offered && options.checkpointEvery > 0 &&
-            secondsSince(lastWritten) >= options.checkpointEvery) {
+        // Rank 0's clock says when a checkpoint is due.
+        const bool due = offered && options.checkpointEvery > 0 &&
+                         secondsSince(lastWritten) >= options.checkpointEvery;
+        if (offered && (ranks ? ranks->anyOverRanks(root && due) : due)) {
           progress.inStage = p;
           save(s);
         }
-        if (stopSignal() != 0 && offered) {
+        if (offered && stopped()) {
           progress.inStage = p;
           save(s);
           stopAndSayHowToResume(options, outDir, s);
         }
-        if (fault && s.stepCount() == fault->first && fault->second < s.particles().size()) {
-          auto& v = const_cast<Particles&>(s.particles()).velocity[fault->second];
-          v.x() = std::numeric_limits<double>::quiet_NaN();
+        if (fault && s.stepCount() == fault->first) {
+          // The particle by its id in the scene: in a split run, on the rank that owns it.
+          for (std::size_t i = 0; i < s.particles().size(); ++i) {
+            if (s.globalId(i) != fault->second || !s.owns(i)) continue;
+            auto& v = const_cast<Particles&>(s.particles()).velocity[i];
+            v.x() = std::numeric_limits<double>::quiet_NaN();
+          }
         }
       };
       // A stage that had begun continues where its checkpoint left it; one that had not
@@ -311,20 +407,39 @@ int runScene(const RunOptions& options) {
       progress.finished.push_back({result, secondsSince(stageStart)});
       progress.stage = k + 1;
       progress.inStage = StageProgress{};
-      if (options.checkpointEvery > 0 || stopSignal() != 0) save(sim);
-      if (stopSignal() != 0 && k + 1 < scene.stages.size()) {
-        stopAndSayHowToResume(options, outDir, sim);
-      }
-      std::cout << "stage " << stage.name << ": " << reasonText(result.reason) << " after "
-                << format("%.6g", result.duration) << " s (" << result.steps << " steps, "
-                << format("%.1f", progress.finished.back().wallSeconds) << " s wall-clock), KE "
-                << format("%.3e", sim.kineticEnergy()) << " J\n"
-                << std::flush;
+      const bool stop = stopped();
+      if (options.checkpointEvery > 0 || stop) save(sim);
+      if (stop && k + 1 < scene.stages.size()) stopAndSayHowToResume(options, outDir, sim);
+      const double kinetic = sim.kineticEnergy();
+      out << "stage " << stage.name << ": " << reasonText(result.reason) << " after "
+          << format("%.6g", result.duration) << " s (" << result.steps << " steps, "
+          << format("%.1f", progress.finished.back().wallSeconds) << " s wall-clock), KE "
+          << format("%.3e", kinetic) << " J\n"
+          << std::flush;
     }
   } catch (const NumericalError& e) {
     reporter.finish();
+    if (ranks && ranks->size() > 1 && dynamic_cast<const BrokenStateError*>(&e)) {
+      // A broken particle of this rank's own, which the others cannot know of: its share of
+      // the state, the message, and every rank ends.
+      const std::filesystem::path broken =
+          outDir / ("failed_state_rank" + std::to_string(ranks->rank()) + ".csv");
+      std::vector<std::uint64_t> ids(sim.particles().size());
+      for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = sim.globalId(i);
+      createOutputFolder(outDir);
+      writeParticleState(broken, sim.particles(), &ids);
+      std::cerr << "error: " << e.what() << "; this rank's particles (owned and ghosts) are in "
+                << broken.string()
+                << (lastGood ? "; the last good state is " + checkpoint.string() +
+                                   ": remove the cause and continue it with --resume"
+                             : std::string("; no checkpoint was written in this run"))
+                << "\n"
+                << std::flush;
+      MpiSession::abortAll(kExitNumericalFailure);
+    }
     const std::filesystem::path broken = outDir / "failed_state.csv";
-    writeParticleState(broken, sim.particles());
+    withWhole(sim, [&](const Simulation& whole) { writeParticleState(broken, whole.particles()); });
+    if (!root) return kExitNumericalFailure;
     std::cerr << "error: " << e.what() << "\n";
     if (lastGood) {
       std::cerr << "the last good state is " << checkpoint.string()
@@ -338,14 +453,19 @@ int runScene(const RunOptions& options) {
     }
     return kExitNumericalFailure;
   }
-  writeParticleState(outDir / "final_state.csv", sim.particles());
+  std::optional<Simulation> gathered;
+  if (ranks) gathered.emplace(sim.wholeState());
+  const double finalKinetic = sim.kineticEnergy();
+  if (!root) return 0;
+  const Simulation& whole = gathered ? *gathered : sim;
+  writeParticleState(outDir / "final_state.csv", whole.particles());
 
   // 3. Summary
   // -------------------------------------------------------------------------------------
   std::ostringstream summary;
   summary << "scene: " << scene.sourceFile.string() << "\n"
-          << "particles: " << sim.particles().size() << "\n"
-          << "total mass: " << format("%.6g", totalMass(sim.particles())) << " kg\n"
+          << "particles: " << whole.particles().size() << "\n"
+          << "total mass: " << format("%.6g", totalMass(whole.particles())) << " kg\n"
           << "stages:\n";
   for (std::size_t k = 0; k < progress.finished.size(); ++k) {
     const FinishedStage& r = progress.finished[k];
@@ -364,8 +484,8 @@ int runScene(const RunOptions& options) {
             << format("%.3g", counted.worstStepRatio) << " x)";
   }
   summary << "\n";
-  summary << "final kinetic energy: " << format("%.6e", sim.kineticEnergy()) << " J\n"
-          << "state hash: " << hexHash(sim.stateHash()) << "\n"
+  summary << "final kinetic energy: " << format("%.6e", finalKinetic) << " J\n"
+          << "state hash: " << hexHash(whole.stateHash()) << "\n"
           << "wall-clock: " << format("%.2f", secondsSince(started)) << " s"
           << (start.resumed ? " (since the resume)" : "") << "\n";
   writeTextFile(outDir / "summary.txt", summary.str());
@@ -380,6 +500,9 @@ int runScene(const RunOptions& options) {
 }  // namespace
 
 int runCommand(const RunOptions& options) {
+  if (options.ranks) {
+    return withRanksErrorMapping(*options.ranks, [&] { return runScene(options); });
+  }
   return withErrorMapping([&] { return runScene(options); });
 }
 

@@ -2,6 +2,9 @@
 /// `granular run`: load a scene, run its stages, write the time series, snapshots, final state
 /// and a summary.
 #include <filesystem>
+#include <memory>
+
+#include "granular/communicator.hpp"
 
 namespace granular::app {
 
@@ -13,6 +16,9 @@ struct RunOptions {
   double checkpointEvery = 300.0;
   /// Continue from <outDir>/checkpoint.bin when it exists (else start from the beginning).
   bool resume = false;
+  /// The processes of a run under mpirun (null: one process alone). The run is then split by
+  /// space among them: rank 0 writes every file and prints, each rank steps its share.
+  std::shared_ptr<const Communicator> ranks;
 };
 
 /// Exit status of a run whose state stopped being finite (NaN or infinity).

@@ -9,6 +9,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
+#include "granular/mpi_session.hpp"
 #include "stop_signals.hpp"
 
 namespace granular::app {
@@ -129,30 +130,67 @@ void createOutputFolder(const std::filesystem::path& folder) {
   }
 }
 
+ErrorReport reportOf(const std::exception_ptr& error) {
+  try {
+    std::rethrow_exception(error);
+  } catch (const SceneError& e) {
+    return {2, std::string("error: ") + e.what()};
+  } catch (const ConfigError& e) {
+    return {2, std::string("error: ") + e.what()};
+  } catch (const CheckpointError& e) {
+    return {2, std::string("error: ") + e.what()};
+  } catch (const IoError& e) {
+    return {1, std::string("error: ") + e.what()};
+  } catch (const Interrupted& e) {
+    return {128 + e.signal(), e.what()};
+  } catch (const std::bad_alloc&) {
+    return {1, "error: out of memory (std::bad_alloc)"};
+  } catch (const std::exception& e) {
+    return {1, std::string("error: ") + e.what()};
+  }
+}
+
 int withErrorMapping(const std::function<int()>& body) {
   try {
     return body();
-  } catch (const SceneError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const ConfigError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const CheckpointError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  } catch (const IoError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
-  } catch (const Interrupted& e) {
-    std::cerr << e.what() << "\n";
-    return 128 + e.signal();
-  } catch (const std::bad_alloc&) {
-    std::cerr << "error: out of memory (std::bad_alloc)\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 1;
+  } catch (const SilentExit& e) {
+    return e.status;
+  } catch (...) {
+    const ErrorReport report = reportOf(std::current_exception());
+    std::cerr << report.message << "\n";
+    return report.status;
+  }
+}
+
+int withRanksErrorMapping(const Communicator& ranks, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const SilentExit& e) {
+    return e.status;
+  } catch (...) {
+    const std::exception_ptr error = std::current_exception();
+    const ErrorReport report = reportOf(error);
+    bool alike = false;  // met by every rank at the same point of the run
+    try {
+      std::rethrow_exception(error);
+    } catch (const SceneError&) {
+      alike = true;
+    } catch (const ConfigError&) {
+      alike = true;
+    } catch (const CheckpointError&) {
+      alike = true;
+    } catch (const Interrupted&) {
+      alike = true;
+    } catch (...) {
+    }
+    if (alike) {
+      if (ranks.rank() == 0) std::cerr << report.message << "\n";
+      return report.status;
+    }
+    std::cerr << report.message << " (rank " << ranks.rank() << " of " << ranks.size() << ")\n"
+              << std::flush;
+    if (ranks.size() > 1) MpiSession::abortAll(report.status);
+    return report.status;
   }
 }
 

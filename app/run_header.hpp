@@ -1,11 +1,13 @@
 #pragma once
 /// Pieces shared by the subcommands: number formatting, the run header, the walls a time series
 /// carries, and the mapping of errors to exit codes.
+#include <exception>
 #include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
 
+#include "granular/communicator.hpp"
 #include "granular/scene.hpp"
 
 namespace granular::app {
@@ -32,5 +34,23 @@ void createOutputFolder(const std::filesystem::path& folder);
 /// scene, configuration or checkpoint, 1 for I/O and anything else, 128 + the signal's number
 /// for a stop by SIGTERM or SIGINT (stop_signals.hpp).
 int withErrorMapping(const std::function<int()>& body);
+
+/// The exit status and the message withErrorMapping gives an exception.
+struct ErrorReport {
+  int status = 1;
+  std::string message;
+};
+ErrorReport reportOf(const std::exception_ptr& error);
+
+/// Ends a rank of a run under mpirun with `status` and no message: another rank says why.
+struct SilentExit {
+  int status = 1;
+};
+
+/// withErrorMapping for a run under mpirun: an error every rank meets alike (an invalid scene or
+/// stage, a stop by a signal, a failed run check) is said once, by rank 0, and every rank ends
+/// with its status; one that a rank meets alone (an I/O error, a broken particle of its own)
+/// is said by that rank, naming it, and ends every rank at once (MpiSession::abortAll).
+int withRanksErrorMapping(const Communicator& ranks, const std::function<int()>& body);
 
 }  // namespace granular::app

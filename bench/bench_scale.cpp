@@ -47,6 +47,7 @@
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
 #include "granular/spatial_order.hpp"
+#include "proc_status.hpp"
 
 namespace {
 
@@ -55,20 +56,7 @@ constexpr double kRadiusMax = 0.035;
 constexpr double kTimeStep = 1e-4;  // [s], contact duration / 87 for the paper's material
 constexpr std::uint64_t kSeed = 20261123;
 
-/// A field of /proc/self/status in bytes (the kernel reports kB).
-double statusBytes(const std::string& key) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind(key + ":", 0) == 0) {
-      std::istringstream fields(line.substr(key.size() + 1));
-      double kb = 0;
-      fields >> kb;
-      return kb * 1024.0;
-    }
-  }
-  return 0.0;
-}
+using granular::bench::statusBytes;
 
 struct Options {
   std::vector<long> sizes = {1000, 10000, 100000};

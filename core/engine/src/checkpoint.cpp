@@ -408,6 +408,12 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   std::uint64_t sinceCheck = state.stepsSinceCheck;
   w(step.automatic), w(step.safety), w(step.contactResolution), w(step.recheckSteps);
   w(step.onUnstable), w(targetStep), w(sinceCheck);
+  StepCounters counters = state.counters;  // version 7
+  StepCheck check = state.stepCheck;
+  w(counters.stepChecks), w(counters.unstableChecks), w(counters.worstStepRatio);
+  w(counters.smallestStep), w(counters.largestStep);
+  w(check.time), w(check.networkStep), w(check.omegaMax), w(check.dampingRatio);
+  w(check.particle), w(check.contacts), w(check.accuracyStep), w(check.chosenStep);
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -539,6 +545,14 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
                       state->targetStep >= 0 &&
                       (step.onUnstable == OnUnstable::Stop || step.onUnstable == OnUnstable::Warn);
     if (!sane) throw CheckpointError(name + ": corrupted checkpoint: the step control is invalid");
+  }
+  if (version >= 7) {
+    StepCounters& k = state->counters;
+    StepCheck& c = state->stepCheck;
+    r(k.stepChecks), r(k.unstableChecks), r(k.worstStepRatio), r(k.smallestStep);
+    r(k.largestStep);
+    r(c.time), r(c.networkStep), r(c.omegaMax), r(c.dampingRatio), r(c.particle), r(c.contacts);
+    r(c.accuracyStep), r(c.chosenStep);
   }
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);

@@ -42,16 +42,26 @@ void validateStepControl(const StepControl& c) {
 }
 
 /// Stops the run at the step that broke the state (design: never lie quietly).
-[[noreturn]] void reportBrokenState(const SimulationState& s) {
-  const std::optional<std::string> what = firstNonFiniteParticle(s.particles);
+/// Throws NumericalError naming the step and the first broken particle. In a run split by
+/// space only the rank that owns a broken particle throws (naming its global id and the rank):
+/// a ghost's broken values are its owner's, which reports them, and the others return.
+void reportBrokenState(const SimulationState& s) {
+  const bool split = s.split.domains != nullptr;
+  const std::optional<std::string> what =
+      split ? firstNonFiniteParticle(s.particles, &s.owned, &s.split.globalId)
+            : firstNonFiniteParticle(s.particles);
+  if (split && !what) return;
   std::ostringstream msg;
   msg.precision(9);
   msg << "step " << s.steps
       << " (t = " << s.timeOrigin + double(s.stepsSinceOrigin) * s.config.timeStep
       << " s): " << (what ? *what : std::string("a value is not finite"))
+      << (split ? " (on rank " + std::to_string(s.ranks->rank()) + " of " +
+                      std::to_string(s.ranks->size()) + ")"
+                : std::string())
       << "; the state is broken and the run stops (a time step too large for a contact, or a "
          "NaN in the input)";
-  throw NumericalError(msg.str());
+  throw BrokenStateError(msg.str());
 }
 
 /// The fewest steps between two checks of the step that a rebuild starts.
@@ -513,8 +523,9 @@ void advance(SimulationState& s, bool predictNext) {
   const Vec3 g = s.config.gravity;
   if (predictNext) s.rangeMove2.assign(teams, 0.0);  // the next step's moves, from pass 6
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
-    const double* accel = s.force.front().data();
-    const double* angularAccel = rotating ? s.torque.front().data() : nullptr;
+    // (A rank of a split run may hold no particle: no front() then.)
+    const double* accel = s.force.empty() ? nullptr : s.force.front().data();
+    const double* angularAccel = rotating && !s.torque.empty() ? s.torque.front().data() : nullptr;
     if (s.split.domains) {
       // A ghost's force is the part its own contacts here give: dropped, so that what the
       // corrector makes of it (overwritten by the owner's next prediction) stays finite.
@@ -834,6 +845,10 @@ Simulation Simulation::wholeState() const {
 std::uint64_t Simulation::globalId(std::size_t i) const {
   const SimulationState& s = *state_;
   return s.split.globalId.empty() ? i : s.split.globalId.at(i);
+}
+
+const Communicator* Simulation::ranks() const {
+  return state_->split.domains ? state_->ranks.get() : nullptr;
 }
 
 bool Simulation::owns(std::size_t i) const {

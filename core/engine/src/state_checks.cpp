@@ -231,9 +231,12 @@ void checkEnergy(const Checker& c, const SimulationState& s) {
 
 }  // namespace
 
-std::optional<std::string> firstNonFiniteParticle(const Particles& p) {
+std::optional<std::string> firstNonFiniteParticle(const Particles& p,
+                                                  const std::vector<std::uint8_t>* owned,
+                                                  const std::vector<std::uint64_t>* ids) {
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {
+    if (owned && !(*owned)[i]) continue;
     const char* what = nullptr;
     const char* unit = "";
     Vec3 value;
@@ -245,8 +248,8 @@ std::optional<std::string> firstNonFiniteParticle(const Particles& p) {
       what = "angular velocity", unit = "rad/s", value = p.angularVelocity[i];
     }
     if (what) {
-      return "particle " + std::to_string(i) + ": " + what + " " + describe(value) + " " + unit +
-             " is not finite";
+      return "particle " + std::to_string(ids ? (*ids)[i] : i) + ": " + what + " " +
+             describe(value) + " " + unit + " is not finite";
     }
   }
   return std::nullopt;

@@ -10,7 +10,11 @@ namespace granular {
 
 /// The first particle whose position, velocity or angular velocity is not finite, described
 /// as "particle 12: velocity (nan, 0, 0) m/s is not finite"; nullopt when all are finite.
-std::optional<std::string> firstNonFiniteParticle(const Particles& particles);
+/// With `owned` (a run split by space) only the particles owned here (owned[i] != 0) are looked
+/// at, and each is named by its global id, ids[i].
+std::optional<std::string> firstNonFiniteParticle(const Particles& particles,
+                                                  const std::vector<std::uint8_t>* owned = nullptr,
+                                                  const std::vector<std::uint64_t>* ids = nullptr);
 
 /// Refuses (CheckpointError naming `file`) a restored state the engine could not step safely:
 /// arrays of different lengths, contact indices out of range or unsorted, unknown enumeration

@@ -76,6 +76,12 @@ std::string RunChecks::energyDrift(const Simulation& sim, const std::string& sta
          ": the time step or a damping coefficient is probably too large";
 }
 
+namespace {
+/// The first of this rank's particles wholly beyond a bound, described; empty if none.
+std::string firstOutside(const Simulation& sim, const std::string& stage,
+                         const std::vector<Bound>& bounds);
+}  // namespace
+
 std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stage) const {
   // The walls where they are now (a moving wall, the top placed by a stage), and the faces of
   // the box that are not walls but bound where particles start: the sides and the floor.
@@ -91,15 +97,27 @@ std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stag
     bounds.push_back({lower ? box_.min : box_.max, normal,
                       std::string("the open face ") + kBoxWallNames[face] + " of the box", false});
   }
+  // A split run: each rank looks at its own particles, and every rank takes the lowest rank's
+  // finding.
+  const std::string found = firstOutside(sim, stage, bounds);
+  const Communicator* ranks = sim.ranks();
+  return ranks ? ranks->firstOverRanks(found) : found;
+}
+
+namespace {
+
+std::string firstOutside(const Simulation& sim, const std::string& stage,
+                         const std::vector<Bound>& bounds) {
   const Particles& p = sim.particles();
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!sim.owns(i)) continue;
     for (const Bound& b : bounds) {
       const double beyond = -(p.position[i] - b.point).dot(b.normal);  // > R: wholly past it
       if (!(beyond > p.radius[i])) continue;
       const Vec3& x = p.position[i];
-      return "particle " + std::to_string(i) + " is outside the box " + where(sim, stage) +
-             ": centre (" + formatNumber(x.x()) + ", " + formatNumber(x.y()) + ", " +
-             formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
+      return "particle " + std::to_string(sim.globalId(i)) + " is outside the box " +
+             where(sim, stage) + ": centre (" + formatNumber(x.x()) + ", " + formatNumber(x.y()) +
+             ", " + formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
              " m, wholly beyond " + b.name + " (its centre " + fixed("%.3g", beyond) +
              " m past it): " +
              (b.wall ? "the particle and the wall passed through each other, too fast for the "
@@ -109,5 +127,7 @@ std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stag
   }
   return {};
 }
+
+}  // namespace
 
 }  // namespace granular

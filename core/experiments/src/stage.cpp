@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,13 +26,15 @@ void placeTopWall(Simulation& sim, const StageSpec& stage) {
     throw ConfigError("stage '" + stage.name +
                       "': cannot place the top wall on the surface: a wall named 'top' exists");
   }
+  // The highest particle over the ranks of a split run (each looks at its own).
   const Particles& particles = sim.particles();
-  if (particles.size() == 0) {
-    throw ConfigError("stage '" + stage.name + "': no particles to place the top wall on");
+  double surface = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (sim.owns(i)) surface = std::max(surface, particles.position[i].z() + particles.radius[i]);
   }
-  double surface = particles.position[0].z() + particles.radius[0];
-  for (std::size_t i = 1; i < particles.size(); ++i) {
-    surface = std::max(surface, particles.position[i].z() + particles.radius[i]);
+  if (const Communicator* ranks = sim.ranks()) surface = ranks->maxOverRanks(surface);
+  if (!std::isfinite(surface)) {
+    throw ConfigError("stage '" + stage.name + "': no particles to place the top wall on");
   }
   Wall top;
   top.name = "top";

@@ -164,4 +164,13 @@ void MpiSession::abortAll(int code) {
 
 #endif
 
+bool MpiSession::launched() {
+  // OpenMPI's mpirun sets OMPI_COMM_WORLD_SIZE; PMIx and PMI launchers (srun, MPICH's
+  // mpiexec) set theirs.
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"}) {
+    if (std::getenv(name) != nullptr) return true;
+  }
+  return false;
+}
+
 }  // namespace granular

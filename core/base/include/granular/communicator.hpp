@@ -45,6 +45,10 @@ class Communicator {
   /// Rank 0's bytes, on every rank.
   virtual std::vector<std::byte> broadcast(const std::vector<std::byte>& fromRankZero) const = 0;
 
+  /// The lowest rank's non-empty text, on every rank (empty if every rank's is): a finding that
+  /// some ranks make and every rank must act on alike.
+  std::string firstOverRanks(const std::string& mine) const;
+
   /// Waits until every rank has reached this point.
   virtual void barrier() const = 0;
 };

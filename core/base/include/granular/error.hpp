@@ -36,4 +36,11 @@ class NumericalError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A NumericalError that one rank of a run split by space finds alone: the broken particle is
+/// its own (its owner's finding; the other ranks cannot know of it).
+class BrokenStateError : public NumericalError {
+ public:
+  using NumericalError::NumericalError;
+};
+
 }  // namespace granular

@@ -43,9 +43,12 @@ class CheckpointError : public std::runtime_error {
 /// 6: the step control (StepControl: automatic, safety, contact resolution, check interval,
 ///    on_unstable), the step asked for or chosen, and the steps since the step was last
 ///    checked, after the accounts: an automatic run resumes bit for bit (older files: fixed).
+/// 7: the step counters (checks, unstable checks, the worst ratio, the smallest and largest
+///    step) and the last check (StepCheck), after the step control: a resumed run's summary
+///    counts from the start (older files: from the resume).
 /// Versions 2 to 5 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 6;
+inline constexpr std::uint32_t kCheckpointVersion = 7;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

@@ -278,6 +278,8 @@ class Simulation {
   std::uint64_t globalId(std::size_t i) const;
   /// Whether this rank owns particle i of particles() (always, unless the run is split).
   bool owns(std::size_t i) const;
+  /// The ranks a split run is shared among (splitAmong); null for a run in one process.
+  const Communicator* ranks() const;
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.

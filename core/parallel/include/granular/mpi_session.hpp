@@ -20,6 +20,9 @@ class MpiSession {
   ~MpiSession();
   MpiSession(const MpiSession&) = delete;
   MpiSession& operator=(const MpiSession&) = delete;
+  /// Whether an MPI launcher (mpirun, mpiexec) started this process: its environment names the
+  /// rank. A program started alone needs no MPI session.
+  static bool launched();
   /// The world's processes: MPI_COMM_WORLD, or singleProcess() without MPI.
   std::unique_ptr<Communicator> world() const;
   /// Ends every rank of the run at once with `code` (MPI_Abort): for an error one rank found

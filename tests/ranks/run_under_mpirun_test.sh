@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# `granular run` under mpirun (ctest Ranks.Run*): the bed of tests/ranks/bed.toml on 1-3 ranks.
+#   files       every file but the checkpoint is the same bytes on 1, 2 and 3 ranks (summary.txt
+#               but its wall-clock times), and one line of output comes from rank 0 alone
+#   checkpoint  a NaN injected on 2 ranks (GRANULAR_INJECT_NAN) ends every rank with exit 3 and
+#               one message naming the particle and the rank; the run then resumed on 3 ranks
+#               ends with the files of the uninterrupted run; likewise 1 rank -> 2
+#   kill        a rank killed with SIGKILL ends the job (no hang); --resume on 2 ranks then ends
+#               with the files of the uninterrupted run
+#   faults      an invalid scene and a missing file on 3 ranks: exit 2 and one message
+# Usage: run_under_mpirun_test.sh CASE GRANULAR MPIEXEC SCENE WORKDIR
+set -euo pipefail
+case_name="$1" granular="$2" mpiexec="$3" scene="$4" work="$5"
+rm -rf "$work"
+mkdir -p "$work"
+cd "$work"
+
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
+}
+# mpirun with N ranks, bounded: a hang fails the test instead of stalling it.
+ranks() {
+  local n="$1"
+  shift
+  timeout 120 "$mpiexec" -np "$n" --oversubscribe --allow-run-as-root "$granular" "$@"
+}
+# The files two runs must share: everything but the checkpoint, with the summary's and the
+# progress's wall-clock times left out.
+same_files() {
+  local a="$1" b="$2" f
+  for f in $(cd "$a" && find . -type f ! -name checkpoint.bin ! -name 'failed_state*' | sort); do
+    if [[ "$f" == ./summary.txt ]]; then
+      cmp -s <(grep -v 'wall-clock' "$a/$f") <(grep -v 'wall-clock' "$b/$f") ||
+        fail "$a/$f and $b/$f differ"
+    else
+      cmp -s "$a/$f" "$b/$f" || fail "$a/$f and $b/$f differ"
+    fi
+  done
+  [[ -f "$a/final_state.csv" && -f "$a/timeseries.csv" ]] || fail "$a has no final state"
+}
+# The one error line a failed run must print (mpirun adds its own banner, which is not ours).
+one_error() {
+  local log="$1" pattern="$2"
+  [[ "$(grep -c '^error' "$log")" == 1 ]] || { cat "$log" >&2; fail "not one error line in $log"; }
+  grep -q "$pattern" "$log" || { cat "$log" >&2; fail "$log does not say '$pattern'"; }
+}
+
+case "$case_name" in
+  files)
+    for n in 1 2 3; do
+      ranks "$n" run "$scene" --out "np$n" --quiet >"np$n.log" 2>"np$n.err" || fail "np$n failed"
+    done
+    same_files np1 np2
+    same_files np1 np3
+    [[ "$(grep -c '^stage press' np3.log)" == 1 ]] || fail "not one stage line from 3 ranks"
+    [[ ! -s np3.err ]] || fail "3 ranks wrote to stderr: $(cat np3.err)"
+    ;;
+  checkpoint)
+    ranks 1 run "$scene" --out whole --quiet >/dev/null
+    for pair in "2 3" "1 2"; do
+      read -r n m <<<"$pair"
+      dir="from$n"
+      set +e
+      GRANULAR_INJECT_NAN=3000:17 ranks "$n" run "$scene" --out "$dir" --quiet \
+        --checkpoint-every 1e-9 >"$dir.log" 2>"$dir.err"
+      status=$?
+      set -e
+      [[ $status == 3 ]] || fail "a NaN on $n ranks: exit $status, expected 3"
+      one_error "$dir.err" "particle 17"
+      if ((n > 1)); then grep -q "on rank [0-9] of $n" "$dir.err" || fail "no rank named"; fi
+      ranks "$m" run "$scene" --out "$dir" --quiet --resume >"$dir.resume.log" 2>&1 ||
+        fail "resuming on $m ranks failed: $(cat "$dir.resume.log")"
+      grep -q "resuming .* at t = .* s, step 3000" "$dir.resume.log" || fail "not resumed at 3000"
+      same_files whole "$dir"
+    done
+    ;;
+  kill)
+    # A longer settling, so that the kill lands mid-run.
+    sed 's/^max_time = 0.8 /max_time = 3.0 /' "$scene" >long.toml
+    ranks 1 run long.toml --out whole --quiet >/dev/null
+    ranks 2 run long.toml --out killed --quiet --checkpoint-every 1e-9 >killed.log 2>&1 &
+    job=$!
+    for _ in $(seq 100); do
+      [[ -f killed/checkpoint.bin ]] && break
+      sleep 0.1
+    done
+    sleep 0.3
+    victim=$(pgrep -f "^$granular run long.toml --out killed" | tail -1)
+    [[ -n "$victim" ]] || fail "no rank to kill (the run ended first?)"
+    kill -9 "$victim"
+    set +e
+    wait "$job"
+    status=$?
+    set -e
+    ((status != 0 && status != 124)) || fail "the job with a killed rank: exit $status"
+    ranks 2 run long.toml --out killed --quiet --resume >resume.log 2>&1 ||
+      fail "resuming failed: $(cat resume.log)"
+    grep -q "^resuming" resume.log || fail "it did not resume: $(cat resume.log)"
+    same_files whole killed
+    ;;
+  faults)
+    sed 's/^friction = 0.3/friction = -1/' "$scene" >bad.toml
+    exit_2_once() {
+      local name="$1" file="$2" said="$3" status
+      set +e
+      ranks 3 run "$file" --out "$name" >"$name.log" 2>"$name.err"
+      status=$?
+      set -e
+      [[ $status == 2 ]] || fail "$name on 3 ranks: exit $status, expected 2"
+      one_error "$name.err" "$said"
+    }
+    exit_2_once bad bad.toml "friction = -1"
+    exit_2_once missing missing.toml "missing.toml"
+    ;;
+  *)
+    fail "unknown case $case_name"
+    ;;
+esac
+echo "ok: $case_name"
