@@ -118,6 +118,21 @@ void forEachPair(const SimulationState& s, Visit pair) {
 
 // ---- 2. Assembling a state ----------------------------------------------------------------
 
+/// Resizes an array about to be rewritten whole to n elements, with its capacity near n: a rank
+/// that held the whole run before the split, or many more particles before a redistribution,
+/// gives the memory back.
+template <class T>
+void fitted(std::vector<T>& v, std::size_t n) {
+  if (n > v.capacity() || v.capacity() > n + n / 8 + 1024) {
+    std::vector<T> fresh;
+    fresh.reserve(n + n / 16);
+    fresh.resize(n);
+    v.swap(fresh);
+  } else {
+    v.resize(n);
+  }
+}
+
 /// Replaces the particles of `s`, their derivatives and forces and the neighbour list by those
 /// of the records (particles ascending by id, any pair among them). The list's skin, wall
 /// points, validity and rounding stay: the records come from one build of it.
@@ -127,13 +142,13 @@ void assemble(SimulationState& s, RecordBatch& batch) {
             [](const ParticleRecord& a, const ParticleRecord& b) { return a.id < b.id; });
   const std::size_t n = records.size();
   Particles& p = s.particles;
-  p.position.resize(n);
-  p.velocity.resize(n);
-  p.angularVelocity.resize(n);
-  p.radius.resize(n);
-  p.mass.resize(n);
-  s.force.resize(n);
-  if (!s.torque.empty()) s.torque.resize(n);
+  fitted(p.position, n);
+  fitted(p.velocity, n);
+  fitted(p.angularVelocity, n);
+  fitted(p.radius, n);
+  fitted(p.mass, n);
+  fitted(s.force, n);
+  if (!s.torque.empty()) fitted(s.torque, n);
   Derivatives* motions[2] = {&s.translation, &s.rotation};
   std::vector<Vec3>* orders[2][4];
   for (int m = 0; m < 2; ++m) {
@@ -141,13 +156,13 @@ void assemble(SimulationState& s, RecordBatch& batch) {
     std::vector<Vec3>* all[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
     for (int k = 0; k < 4; ++k) {
       orders[m][k] = all[k]->empty() ? nullptr : all[k];
-      if (orders[m][k]) orders[m][k]->resize(n);
+      if (orders[m][k]) fitted(*orders[m][k], n);
     }
   }
   std::vector<std::uint64_t>& id = s.split.globalId;
-  id.resize(n);
+  fitted(id, n);
   NeighbourList& list = s.neighbours;
-  list.referencePosition.resize(n);
+  fitted(list.referencePosition, n);
   const std::size_t walls = s.walls.size();
   const bool wallSprings = s.frictional;
   std::vector<std::vector<std::uint32_t>> wallParticles(walls);
@@ -189,7 +204,7 @@ void assemble(SimulationState& s, RecordBatch& batch) {
     return a.first != b.first ? a.first < b.first : a.second < b.second;
   });
   std::vector<std::uint32_t> first(pairs.size());
-  list.second.resize(pairs.size());
+  fitted(list.second, pairs.size());
   std::vector<ContactHistory> springs;
   if (s.frictional) springs.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
