@@ -80,13 +80,17 @@ class CountingCommunicator : public Communicator {
 
 struct Options {
   long n = 100000, settle = 1500, steps = 200, layers = 12, threads = 1;
+  /// 0: the engine alone (no split, block sums: the one-process baseline); 1: split (also on
+  /// one rank); 2: alone with exact sums.
+  long mode = 1;
 };
 
 Options parse(int argc, char** argv) {
   Options o;
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string arg = argv[k];
-    const long value = std::strtol(argv[k + 1], nullptr, 10);
+    const long value = std::strtol(argv[k + 1], nullptr, 10);  // --mode: 1 alone, 2 split,
+                                                               // 3 alone with exact sums
     if (value < 1) {
       std::cerr << "granular_bench_ranks: " << arg << " must be >= 1\n";
       std::exit(2);
@@ -101,9 +105,11 @@ Options parse(int argc, char** argv) {
       o.layers = value;
     } else if (arg == "--threads") {
       o.threads = value;
+    } else if (arg == "--mode" && value <= 3) {
+      o.mode = value - 1;
     } else {
       std::cerr << "usage: granular_bench_ranks [--n N] [--settle S] [--steps T] [--layers L] "
-                   "[--threads P]\n";
+                   "[--threads P] [--mode 1|2|3]\n";
       std::exit(2);
     }
   }
@@ -155,7 +161,8 @@ int main(int argc, char** argv) {
   std::fill(particles.angularVelocity.begin(), particles.angularVelocity.end(),
             granular::Vec3::Zero());
   granular::Simulation sim(particles, granular::buildWalls(box), config);
-  sim.splitAmong(bricks(particles), counting);
+  if (o.mode == 1) sim.splitAmong(bricks(particles), counting);
+  if (o.mode == 2) sim.setExactSums(true);
   particles = granular::Particles{};  // the timed peak holds this rank's share only
   sim.run(2);                         // warm the caches and the thread pool
   malloc_trim(0);
@@ -177,8 +184,9 @@ int main(int argc, char** argv) {
   world.sumOverRanks(sums);
   const double ranks = world.size();
   if (root) {
-    std::printf("| %ld | %d | %ld | %.2f | %.3g M | %.0f | %.0f | %.0f |\n", o.n, world.size(),
-                o.threads, 1e3 * wall / static_cast<double>(o.steps),
+    const char* mode[] = {"alone", "split", "alone, exact sums"};
+    std::printf("| %ld | %d (%s) | %ld | %.2f | %.3g M | %.0f | %.0f | %.0f |\n", o.n, world.size(),
+                mode[o.mode], o.threads, 1e3 * wall / static_cast<double>(o.steps),
                 static_cast<double>(o.n) * static_cast<double>(o.steps) / wall / 1e6,
                 static_cast<double>(sums[0]) / ranks, static_cast<double>(sums[1]) / ranks,
                 static_cast<double>(sums[2]) / static_cast<double>(sums[1]));

@@ -20,13 +20,16 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "granular/bricks.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
+#include "granular/mpi_session.hpp"
 #include "granular/scene.hpp"
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
@@ -116,7 +119,9 @@ void printTensor(const char* key, const Mat3& m) {
   std::printf("\n");
 }
 
-int run(const Options& o) {
+/// `ranks`: the processes of an mpirun job, among which the run is split by space (null: one
+/// process). Rank 0 prints.
+int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
   const Scene scene = loadScene(o.scene);
   if (scene.stages.size() != 2 || !scene.stages[1].placeTopWallOnSurface) {
     throw ConfigError(o.scene.string() +
@@ -153,6 +158,12 @@ int run(const Options& o) {
   }
   sim.setThreads(o.threads);
   sim.setExactSums(o.exactSums);
+  if (ranks) {
+    if (!o.series.empty()) throw ConfigError("--series runs on one process (not under mpirun)");
+    auto bricks = std::make_shared<Bricks>(ranks->size(), scene.box.min, scene.box.max);
+    bricks->balance(sim.particles().position, 0.07);
+    sim.splitAmong(bricks, ranks);
+  }
   studies::setRebuildEveryStep(sim, o.rebuildEveryStep);
 
   std::ofstream series;
@@ -179,8 +190,10 @@ int run(const Options& o) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const BoxStress box = measureBox(sim);
-  const double n = double(sim.particles().size());
+  const Simulation whole = sim.wholeState();  // a copy alone, the gathered run under mpirun
+  if (ranks && ranks->rank() != 0) return 0;
+  const BoxStress box = measureBox(whole);
+  const double n = double(whole.particles().size());
   std::printf("code = granular\n");
   std::printf("integrator = %s\n",
               sim.config().integrator == Integrator::Gear5 ? "gear5" : "velocity-verlet");
@@ -190,6 +203,7 @@ int run(const Options& o) {
   std::printf("step_control = %s\n", o.automatic ? "auto" : "fixed");
   std::printf("dt_range_s = %.9g %.9g\n", sim.counters().smallestStep, sim.counters().largestStep);
   std::printf("threads = %d\n", o.threads);
+  std::printf("ranks = %d\n", ranks ? ranks->size() : 1);
   std::printf("exact_sums = %s\n", o.exactSums ? "on" : "off");
   std::printf("skin_m = %.6g\n", sim.skin());
   std::printf("steps = %llu\n", static_cast<unsigned long long>(result.steps));
@@ -198,6 +212,7 @@ int run(const Options& o) {
   std::printf("particle_steps_per_s = %.6g\n", n * double(result.steps) / wall);
   std::printf("list_rebuilds = %llu\n", static_cast<unsigned long long>(sim.counters().rebuilds));
   std::printf("top_z_m = %.9f\n", box.upper.z());
+  std::printf("state_hash = %016llx\n", static_cast<unsigned long long>(whole.stateHash()));
   printTensor("sigma_eq1_Pa", box.eq1);
   std::printf("sigma_eq2_Pa = %.6f %.6f %.6f\n", box.eq2.x(), box.eq2.y(), box.eq2.z());
   return 0;
@@ -247,8 +262,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
+  // Under mpirun the stage is split by space among the ranks (exact sums, as granular run).
+  std::optional<granular::MpiSession> mpi;
+  if (granular::MpiSession::launched()) mpi.emplace(argc, argv);
   try {
-    return granular::peer::run(o);
+    return granular::peer::run(
+        o, mpi ? std::shared_ptr<const granular::Communicator>(mpi->world()) : nullptr);
   } catch (const granular::CheckpointError& e) {
     std::cerr << "error: " << e.what() << '\n';
     return 1;

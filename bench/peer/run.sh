@@ -94,6 +94,9 @@ run_code() {
       "$BIN" "${G[@]}" --fresh --integrator "${code#granular-}" --threads "$threads" --dt "$dt" \
         --skin "$SKIN" \
         --duration "$TEND" "${series[@]}" ;;
+    granular-gear5-ranks)  # as granular-gear5, split by space among THREADS ranks of 1 thread
+      OMP_NUM_THREADS=1 "${mpi[@]}" "$BIN" "${G[@]}" --fresh --integrator gear5 --threads 1 \
+        --dt "$dt" --skin "$SKIN" --duration "$TEND" ;;
     granular-auto)     # time_step = "auto", Verlet, the default accuracy floor t_c/10
       "$BIN" "${G[@]}" --fresh --integrator verlet --auto --threads "$threads" --skin "$SKIN" \
         --duration "$TEND" "${series[@]}" ;;
@@ -130,7 +133,7 @@ CODES=(granular-gear5 granular-verlet granular-auto granular-auto-n1)
 echo "timing: ${CODES[*]}, 1 and 2 threads, $REPS repetition(s), $TEND s of stage 2" >&2
 for rep in $(seq 1 "$REPS"); do
   for threads in 1 2; do
-    for code in "${CODES[@]}"; do
+    for code in "${CODES[@]}" $([[ $threads -gt 1 ]] && echo granular-gear5-ranks); do
       wait_quiet "${code}_t${threads}_r${rep} before"
       run_code "$code" "$threads" "$DT" 0 "$OUT/timing/${code}_t${threads}_r${rep}"
       echo "${code}_t${threads}_r${rep} after: $(uptime)" >> "$OUT/timing/load.txt"

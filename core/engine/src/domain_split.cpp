@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstring>
 #include <iterator>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -136,11 +137,14 @@ void fitted(std::vector<T>& v, std::size_t n) {
 /// Replaces the particles of `s`, their derivatives and forces and the neighbour list by those
 /// of the records (particles ascending by id, any pair among them). The list's skin, wall
 /// points, validity and rounding stay: the records come from one build of it.
-void assemble(SimulationState& s, RecordBatch& batch) {
-  std::vector<ParticleRecord>& records = batch.particles;
-  std::sort(records.begin(), records.end(),
-            [](const ParticleRecord& a, const ParticleRecord& b) { return a.id < b.id; });
+void assemble(SimulationState& s, const RecordBatch& batch) {
+  // Sorted by id through a permutation: a record is 400 bytes, a permutation entry 4.
+  const std::vector<ParticleRecord>& records = batch.particles;
   const std::size_t n = records.size();
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0U);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return records[a].id < records[b].id; });
   Particles& p = s.particles;
   fitted(p.position, n);
   fitted(p.velocity, n);
@@ -168,7 +172,7 @@ void assemble(SimulationState& s, RecordBatch& batch) {
   std::vector<std::vector<std::uint32_t>> wallParticles(walls);
   std::vector<std::vector<ContactHistory>> wallHistory(wallSprings ? walls : 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const ParticleRecord& r = records[i];
+    const ParticleRecord& r = records[order[i]];
     id[i] = r.id;
     p.position[i] = get3(r.x);
     p.velocity[i] = get3(r.v);
@@ -199,18 +203,22 @@ void assemble(SimulationState& s, RecordBatch& batch) {
     }
     return static_cast<std::uint32_t>(it - id.begin());
   };
-  std::vector<PairRecord>& pairs = batch.pairs;
-  std::sort(pairs.begin(), pairs.end(), [](const PairRecord& a, const PairRecord& b) {
-    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  const std::vector<PairRecord>& pairs = batch.pairs;
+  std::vector<std::uint32_t> byPair(pairs.size());
+  std::iota(byPair.begin(), byPair.end(), 0U);
+  std::sort(byPair.begin(), byPair.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return pairs[a].first != pairs[b].first ? pairs[a].first < pairs[b].first
+                                            : pairs[a].second < pairs[b].second;
   });
   std::vector<std::uint32_t> first(pairs.size());
   fitted(list.second, pairs.size());
   std::vector<ContactHistory> springs;
   if (s.frictional) springs.resize(pairs.size());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    first[k] = local(pairs[k].first);
-    list.second[k] = local(pairs[k].second);
-    if (s.frictional) springs[k] = pairs[k].spring;
+    const PairRecord& pair = pairs[byPair[k]];
+    first[k] = local(pair.first);
+    list.second[k] = local(pair.second);
+    if (s.frictional) springs[k] = pair.spring;
   }
   rowsFromFirst(list, first, n);
   buildPairBlocks(list, n);
@@ -264,7 +272,9 @@ void getArray(const std::vector<std::byte>& in, std::size_t& at, std::vector<T>&
   if (count > (in.size() - at) / sizeof(T)) throw std::logic_error("split run: a short message");
   const std::size_t before = appendTo.size();
   appendTo.resize(before + count);
-  std::memcpy(static_cast<void*>(appendTo.data() + before), in.data() + at, count * sizeof(T));
+  if (count > 0) {  // (an empty array's data() may be null, which memcpy may not be given)
+    std::memcpy(static_cast<void*>(appendTo.data() + before), in.data() + at, count * sizeof(T));
+  }
   at += count * sizeof(T);
 }
 
@@ -276,9 +286,8 @@ std::vector<std::byte> serialise(const RecordBatch& batch) {
   return out;
 }
 
-/// The batches every rank sent here, as one (wall springs re-indexed).
-RecordBatch merge(const std::vector<std::vector<std::byte>>& received) {
-  RecordBatch all;
+/// Appends the batches other ranks sent here to `all` (wall springs re-indexed).
+void mergeInto(RecordBatch& all, const std::vector<std::vector<std::byte>>& received) {
   for (const std::vector<std::byte>& bytes : received) {
     if (bytes.empty()) continue;
     std::size_t at = 0;
@@ -291,7 +300,6 @@ RecordBatch merge(const std::vector<std::vector<std::byte>>& received) {
       all.particles[k].wallHistoryAt += springBase;
     }
   }
-  return all;
 }
 
 /// The ranks that hold a particle at x after a rebuild: its owner and those it is a ghost of,
@@ -352,24 +360,41 @@ void redistribute(SimulationState& s) {
   std::vector<std::vector<int>> near(n);
   for (std::size_t i = 0; i < n; ++i) near[i] = holders(domains, p.position[i], halo);
   const std::size_t ranks = static_cast<std::size_t>(s.ranks->size());
-  std::vector<RecordBatch> outgoing(ranks);
+  const int me = s.ranks->rank();
   // Each rank sends what it owns: its particles, and the springs of the pairs they are first of
-  // to the ranks that will hold both.
+  // to the ranks that will hold both. What stays here is kept in place, compacted, and only
+  // what goes elsewhere (the ghost layers, the particles that left) is copied into messages:
+  // the transient of a redistribution is about one record a particle held.
   RecordBatch mine;
   recordParticles(
       s, [&](std::size_t i) { return s.owned[i] != 0; }, mine);
+  std::vector<RecordBatch> away(ranks);
+  std::size_t kept = 0, keptSprings = 0;
   for (std::size_t i = 0, k = 0; i < n; ++i) {
     if (!s.owned[i]) continue;
-    const ParticleRecord& r = mine.particles[k++];
+    ParticleRecord r = mine.particles[k++];
     const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
+    const auto from = mine.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
+    bool stays = false;
     for (int rank : near[i]) {
-      RecordBatch& to = outgoing[std::size_t(rank)];
+      if (rank == me) {
+        stays = true;
+        continue;
+      }
+      RecordBatch& to = away[std::size_t(rank)];
       to.particles.push_back(r);
       to.particles.back().wallHistoryAt = to.wallSprings.size();
-      const auto from = mine.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
       to.wallSprings.insert(to.wallSprings.end(), from, from + std::ptrdiff_t(springs));
     }
+    if (!stays) continue;
+    std::copy(from, from + std::ptrdiff_t(springs),
+              mine.wallSprings.begin() + std::ptrdiff_t(keptSprings));
+    r.wallHistoryAt = keptSprings;
+    keptSprings += springs;
+    mine.particles[kept++] = r;
   }
+  mine.particles.resize(kept);
+  mine.wallSprings.resize(keptSprings);
   if (s.frictional) {
     std::vector<int> both;
     forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
@@ -377,14 +402,18 @@ void redistribute(SimulationState& s) {
       both.clear();
       std::set_intersection(near[i].begin(), near[i].end(), near[j].begin(), near[j].end(),
                             std::back_inserter(both));
-      for (int r : both) outgoing[std::size_t(r)].pairs.push_back({idOf(s, i), idOf(s, j), spring});
+      for (int r : both) {
+        (r == me ? mine : away[std::size_t(r)]).pairs.push_back({idOf(s, i), idOf(s, j), spring});
+      }
     });
   }
   std::vector<std::vector<std::byte>> bytes(ranks);
-  for (std::size_t r = 0; r < ranks; ++r) bytes[r] = serialise(outgoing[r]);
-  std::vector<RecordBatch>().swap(outgoing);
-  RecordBatch received = merge(s.ranks->exchange(bytes));
-  assemble(s, received);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    if (static_cast<int>(r) != me) bytes[r] = serialise(away[r]);
+  }
+  std::vector<RecordBatch>().swap(away);
+  mergeInto(mine, s.ranks->exchange(bytes));
+  assemble(s, mine);
   mapGhosts(s, halo);
 }
 
@@ -473,7 +502,8 @@ std::unique_ptr<SimulationState> gatherWhole(const SimulationState& s) {
   });
   const std::vector<std::vector<std::byte>> bytes(static_cast<std::size_t>(s.ranks->size()),
                                                   serialise(mine));
-  RecordBatch all = merge(s.ranks->exchange(bytes));
+  RecordBatch all;
+  mergeInto(all, s.ranks->exchange(bytes));
   auto whole = std::make_unique<SimulationState>(s);
   assemble(*whole, all);
   whole->split = DomainSplit{};
