@@ -29,6 +29,29 @@ struct Bound {
   bool wall;
 };
 
+/// The first of this rank's particles wholly beyond a bound, described; empty if none.
+std::string firstOutside(const Simulation& sim, const std::string& stage,
+                         const std::vector<Bound>& bounds) {
+  const Particles& p = sim.particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!sim.owns(i)) continue;
+    for (const Bound& b : bounds) {
+      const double beyond = -(p.position[i] - b.point).dot(b.normal);  // > R: wholly past it
+      if (!(beyond > p.radius[i])) continue;
+      const Vec3& x = p.position[i];
+      return "particle " + std::to_string(sim.globalId(i)) + " is outside the box " +
+             where(sim, stage) + ": centre (" + formatNumber(x.x()) + ", " + formatNumber(x.y()) +
+             ", " + formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
+             " m, wholly beyond " + b.name + " (its centre " + fixed("%.3g", beyond) +
+             " m past it): " +
+             (b.wall ? "the particle and the wall passed through each other, too fast for the "
+                       "time step"
+                     : "it left through a face that is not a wall");
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 RunChecks::RunChecks(const RunCheckSpec& spec, const BoxSpec& box, double referenceTotal)
@@ -76,12 +99,6 @@ std::string RunChecks::energyDrift(const Simulation& sim, const std::string& sta
          ": the time step or a damping coefficient is probably too large";
 }
 
-namespace {
-/// The first of this rank's particles wholly beyond a bound, described; empty if none.
-std::string firstOutside(const Simulation& sim, const std::string& stage,
-                         const std::vector<Bound>& bounds);
-}  // namespace
-
 std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stage) const {
   // The walls where they are now (a moving wall, the top placed by a stage), and the faces of
   // the box that are not walls but bound where particles start: the sides and the floor.
@@ -103,31 +120,5 @@ std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stag
   const Communicator* ranks = sim.ranks();
   return ranks ? ranks->firstOverRanks(found) : found;
 }
-
-namespace {
-
-std::string firstOutside(const Simulation& sim, const std::string& stage,
-                         const std::vector<Bound>& bounds) {
-  const Particles& p = sim.particles();
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!sim.owns(i)) continue;
-    for (const Bound& b : bounds) {
-      const double beyond = -(p.position[i] - b.point).dot(b.normal);  // > R: wholly past it
-      if (!(beyond > p.radius[i])) continue;
-      const Vec3& x = p.position[i];
-      return "particle " + std::to_string(sim.globalId(i)) + " is outside the box " +
-             where(sim, stage) + ": centre (" + formatNumber(x.x()) + ", " + formatNumber(x.y()) +
-             ", " + formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
-             " m, wholly beyond " + b.name + " (its centre " + fixed("%.3g", beyond) +
-             " m past it): " +
-             (b.wall ? "the particle and the wall passed through each other, too fast for the "
-                       "time step"
-                     : "it left through a face that is not a wall");
-    }
-  }
-  return {};
-}
-
-}  // namespace
 
 }  // namespace granular
