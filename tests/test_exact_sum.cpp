@@ -13,6 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 using namespace granular;
@@ -109,4 +111,80 @@ TEST(ExactSum, TheSameBitsInEveryOrderAndEverySplit) {
     EXPECT_EQ(bitsOf(b.value()), reference) << shuffle;
   }
   EXPECT_TRUE(naiveDiffers);  // the test's terms do tell the orders apart
+}
+
+namespace {
+
+/// The accumulator's carried words after adding xs one by one, and after addAll of the same.
+std::pair<ExactSum::Words, ExactSum::Words> bothWays(const std::vector<double>& xs) {
+  ExactSum each, all;
+  for (double x : xs) each.add(x);
+  all.addAll(xs.data(), xs.size());
+  ExactSum::Words a = each.words(), b = all.words();
+  a[ExactSum::kLimbs] = b[ExactSum::kLimbs] = 0;  // the count since the last carry: 0 once read
+  return {a, b};
+}
+
+}  // namespace
+
+TEST(ExactSum, AddAllHoldsExactlyWhatAddingEachHolds) {
+  // addAll splits each term on three grids set by the batch's largest; the accumulator must hold
+  // the same exact value as term-by-term addition (its carried words equal), for batches of like
+  // size (one split each), terms far below the largest (their remainders added one by one),
+  // spans wider than the grids reach, subnormal and huge terms (one by one), lengths around
+  // the lanes, the unrolling and the 1024-term batches, and both signs.
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+  const int spans[] = {0, 3, 30, 75, 130, 2000};
+  const std::size_t lengths[] = {0, 1, 3, 4, 7, 8, 9, 100, 1023, 1024, 1025, 2049, 5000};
+  for (int span : spans) {
+    std::uniform_int_distribution<int> exponent(-span / 2, span - span / 2);
+    for (std::size_t length : lengths) {
+      std::vector<double> xs;
+      for (std::size_t i = 0; i < length; ++i) {
+        const int e = span == 2000 ? exponent(random) - 60 : exponent(random) - 10;
+        xs.push_back(std::ldexp(mantissa(random), std::clamp(e, -1074, 1000)) *
+                     ((random() & 1) ? 1 : -1));
+      }
+      const auto [each, all] = bothWays(xs);
+      EXPECT_EQ(each, all) << "span " << span << ", length " << length;
+    }
+  }
+  // Cancellation to exactly zero within a batch, and terms whose parts all land on one grid.
+  std::vector<double> cancelling;
+  for (int i = 0; i < 600; ++i) {
+    const double x = std::ldexp(mantissa(random), (i % 90) - 45);
+    cancelling.push_back(x);
+    cancelling.push_back(-x);
+  }
+  std::shuffle(cancelling.begin(), cancelling.end(), random);
+  ExactSum zero;
+  zero.addAll(cancelling.data(), cancelling.size());
+  EXPECT_TRUE(zero.isZero());
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(bothWays({tiny, 3 * tiny, DBL_MIN}).first, bothWays({tiny, 3 * tiny, DBL_MIN}).second);
+  EXPECT_EQ(bothWays({DBL_MAX, DBL_MAX, -DBL_MAX, 1.0}).first,
+            bothWays({DBL_MAX, DBL_MAX, -DBL_MAX, 1.0}).second);
+}
+
+TEST(ExactSum, AddAllMeetsSpecialValuesAsAddingEachDoes) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> xs(50, 0.25);
+  for (const auto& [at, special, isNan] : {std::tuple{0, inf, false}, std::tuple{17, -inf, false},
+                                           std::tuple{49, nan, true}, std::tuple{8, nan, true}}) {
+    std::vector<double> ys = xs;
+    ys[static_cast<std::size_t>(at)] = special;
+    ExactSum s;
+    s.addAll(ys.data(), ys.size());
+    if (isNan) {
+      EXPECT_TRUE(std::isnan(s.value())) << at;
+    } else {
+      EXPECT_EQ(s.value(), special) << at;
+    }
+  }
+  ExactSum both;
+  const double mixed[] = {1.0, inf, 2.0, -inf};
+  both.addAll(mixed, 4);
+  EXPECT_TRUE(std::isnan(both.value()));
 }

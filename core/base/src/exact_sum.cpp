@@ -1,6 +1,7 @@
 /// The long accumulator (granular/exact_sum.hpp).
 #include "granular/exact_sum.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -11,10 +12,168 @@ namespace {
 
 constexpr int kOffset = 1074;  // bit 0 of limb 0 weighs 2^-1074, the smallest subnormal
 
+unsigned biasedExponent(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return unsigned(bits >> 52) & 0x7ffu;
+}
+
 }  // namespace
 
 void ExactSum::addSpecial(double x) {
   special_ |= std::isnan(x) ? 4 : (x > 0 ? 1 : 2);
+}
+
+// The batch's largest term has biased exponent top: every |x| < 2^(T+1), T = top − 1023. On the
+// grids g_j = 2^(T+1−40j), j = 1, 2, 3, a term splits exactly as x = q1 + q2 + q3 + r:
+//   q_j = (C_j + r) − C_j with C_j = 1.5·2^52·g_j rounds the remainder r to a multiple of g_j
+//   exactly, because C_j + r stays in [2^52 g_j, 2^53 g_j), where doubles are g_j apart
+//   (|r| < 2^40 g_j: the term itself at j = 1, then |r| ≤ g_{j−1}/2 = 2^39 g_j);
+//   r − q_j is exact (no more significant bits than r).
+// Each part is a multiple of its grid below 2^40 g_j, so up to 2^12 of them sum exactly in
+// double (multiples of g_j below 2^53 g_j are all doubles): four lanes of at most 256 terms
+// each, then the lanes. What is left below the third grid (terms more than about 70 binades
+// under the largest) is added one by one. The three part sums are then added as any term.
+// Far from the grids' reach of the double range (T + 13 must not overflow, g_3 must not be
+// subnormal) and for infinities and NaN, every term is added alone.
+namespace {
+
+/// Four doubles: one register under AVX2, two under SSE2.
+typedef double Lanes __attribute__((vector_size(32)));
+typedef std::int64_t LaneMask __attribute__((vector_size(32)));
+
+/// Adds the three parts of x[0, m) (m a multiple of 4) on the grids of c1, c2, c3 (addAll) to
+/// `part`, four terms at a time; true when some term leaves a remainder below the third grid.
+/// One step of splitFour: the four terms at x.
+inline void splitStep(const double* x, const Lanes& v1, const Lanes& v2, const Lanes& v3,
+                      Lanes (&part)[3], LaneMask& left) {
+  Lanes r;
+  std::memcpy(&r, x, sizeof r);
+  Lanes q = (v1 + r) - v1;
+  r -= q;
+  part[0] += q;
+  q = (v2 + r) - v2;
+  r -= q;
+  part[1] += q;
+  q = (v3 + r) - v3;
+  r -= q;
+  part[2] += q;
+  const Lanes zero = {};
+  left |= r != zero;
+}
+
+/// The largest |x| of x[0, m) (m a multiple of 4; NaN is passed over), four at a time.
+#define GRANULAR_LARGEST_BODY              \
+  Lanes largest = {};                      \
+  for (std::size_t i = 0; i < m; i += 4) { \
+    Lanes r;                               \
+    std::memcpy(&r, x + i, sizeof r);      \
+    r = r < 0 ? -r : r;                    \
+    largest = r > largest ? r : largest;   \
+  }                                        \
+  return std::max(std::max(largest[0], largest[1]), std::max(largest[2], largest[3]));
+
+double largestMagnitude(const double* x, std::size_t m) {
+  GRANULAR_LARGEST_BODY
+}
+
+[[gnu::target("avx2")]] double largestMagnitudeAvx2(const double* x, std::size_t m) {
+  GRANULAR_LARGEST_BODY
+}
+
+#undef GRANULAR_LARGEST_BODY
+
+/// Adds the three parts of x[0, m) (m a multiple of 8) on the grids of c1, c2, c3 (addAll) to
+/// `part`, four terms at a time in two interleaved chains; true when some term leaves a
+/// remainder below the third grid. Compiled twice: for any x86-64 and for AVX2.
+#define GRANULAR_SPLIT_FOUR_BODY                                                   \
+  const Lanes v1 = {c1, c1, c1, c1}, v2 = {c2, c2, c2, c2}, v3 = {c3, c3, c3, c3}; \
+  Lanes other[3] = {};                                                             \
+  LaneMask left = {};                                                              \
+  for (std::size_t i = 0; i < m; i += 8) {                                         \
+    splitStep(x + i, v1, v2, v3, part, left);                                      \
+    splitStep(x + i + 4, v1, v2, v3, other, left);                                 \
+  }                                                                                \
+  for (int j = 0; j < 3; ++j) part[j] += other[j];                                 \
+  return (left[0] | left[1] | left[2] | left[3]) != 0;
+
+bool splitFour(const double* x, std::size_t m, double c1, double c2, double c3, Lanes (&part)[3]) {
+  GRANULAR_SPLIT_FOUR_BODY
+}
+
+[[gnu::target("avx2")]] bool splitFourAvx2(const double* x, std::size_t m, double c1, double c2,
+                                           double c3, Lanes (&part)[3]) {
+  GRANULAR_SPLIT_FOUR_BODY
+}
+
+#undef GRANULAR_SPLIT_FOUR_BODY
+
+/// 1.5 · 2^e for a normal result.
+double threeHalves(int e) {
+  const std::uint64_t bits = (std::uint64_t(e + 1023) << 52) | (std::uint64_t(1) << 51);
+  double x;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+
+/// x's remainder below the third grid (addAll).
+double remainder(double x, double c1, double c2, double c3) {
+  x -= (c1 + x) - c1;
+  x -= (c2 + x) - c2;
+  return x - ((c3 + x) - c3);
+}
+
+}  // namespace
+
+// The batch's largest term has biased exponent top: every |x| < 2^(T+1), T = top − 1023. On the
+// grids g_j = 2^(T+1−40j), j = 1, 2, 3, a term splits exactly as x = q1 + q2 + q3 + r:
+//   q_j = (C_j + r) − C_j with C_j = 1.5·2^52·g_j rounds the remainder r to a multiple of g_j
+//   exactly, because C_j + r stays in [2^52 g_j, 2^53 g_j), where doubles are g_j apart
+//   (|r| < 2^40 g_j: the term itself at j = 1, then |r| ≤ g_{j−1}/2 = 2^39 g_j);
+//   r − q_j is exact (it has no more significant bits than r).
+// Each part is a multiple of its grid below 2^40 g_j, so up to 2^12 of them sum exactly in
+// double (the multiples of g_j below 2^53 g_j are all doubles): two sets of four lanes of at most
+// 135 terms each, then the lanes and the sets (each sum below 2^51 g_j: exact). What is left below
+// the third grid (terms more than about 70 binades under the largest) is added one by one. The
+// three part sums are then added as any term. Where the grids would leave the double range (C_1
+// overflowing, g_3 subnormal) and for infinities and NaN, every term is added alone.
+void ExactSum::addAll(const double* x, std::size_t count) {
+  constexpr std::size_t kBatch = 1024;
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  for (std::size_t start = 0; start < count; start += kBatch) {
+    const std::size_t m = std::min(kBatch, count - start);
+    const double* batch = x + start;
+    const std::size_t whole = m - m % 8;
+    double largest = avx2 ? largestMagnitudeAvx2(batch, whole) : largestMagnitude(batch, whole);
+    for (std::size_t i = whole; i < m; ++i) largest = std::max(largest, std::fabs(batch[i]));
+    const unsigned top = biasedExponent(largest);
+    if (top < 200 || top > 2000) {  // tiny, huge or not finite: one by one
+      for (std::size_t i = 0; i < m; ++i) add(batch[i]);
+      continue;
+    }
+    const int t = int(top) - 1023;
+    const double c1 = threeHalves(t + 13), c2 = threeHalves(t - 27), c3 = threeHalves(t - 67);
+    Lanes part[3] = {};
+    bool leftOver = avx2 ? splitFourAvx2(batch, whole, c1, c2, c3, part)
+                         : splitFour(batch, whole, c1, c2, c3, part);
+    for (std::size_t i = whole; i < m; ++i) {  // the tail, in lane 0
+      double r = batch[i];
+      for (int j = 0; j < 3; ++j) {
+        const double c = j == 0 ? c1 : j == 1 ? c2 : c3;
+        const double q = (c + r) - c;
+        r -= q;
+        part[j][0] += q;
+      }
+      leftOver |= r != 0.0;
+    }
+    if (leftOver) {
+      for (std::size_t i = 0; i < m; ++i) {
+        const double r = remainder(batch[i], c1, c2, c3);
+        if (r != 0.0) add(r);
+      }
+    }
+    for (const Lanes& lanes : part) add((lanes[0] + lanes[1]) + (lanes[2] + lanes[3]));
+  }
 }
 
 void ExactSum::merge(const ExactSum& other) {

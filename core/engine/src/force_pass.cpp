@@ -355,11 +355,11 @@ class ParticleEnergies {
         sum_[k] = ends[e] ? 0.0 : sum_[k];
       }
     }
-    // Slot by slot within each end: two adds in a row go to different accumulators, so the
-    // second does not wait for the first's stores to its limbs.
-    for (std::size_t q = 0; q < count; ++q) {
-      for (std::size_t k = 0; k < kSummed; ++k) powers.energy[kSlots[k]].add(total[k][at[q]]);
+    if (held_ + count > kHeld) flush(powers);
+    for (std::size_t k = 0; k < kSummed; ++k) {
+      for (std::size_t q = 0; q < count; ++q) subtotal_[k][held_ + q] = total[k][at[q]];
     }
+    held_ += count;
     particle_ = c.first[m - 1];
     open_ = true;
   }
@@ -367,15 +367,29 @@ class ParticleEnergies {
   /// two blocks).
   void close(ExactPowers& powers, const std::uint8_t* owned) {
     if (!open_) return;
-    const bool mine = owned == nullptr || owned[particle_];
-    for (std::size_t k = 0; k < kSummed; ++k) {
-      if (mine) powers.energy[kSlots[k]].add(sum_[k]);
-      sum_[k] = 0.0;
+    if (owned == nullptr || owned[particle_]) {
+      if (held_ == kHeld) flush(powers);
+      for (std::size_t k = 0; k < kSummed; ++k) subtotal_[k][held_] = sum_[k];
+      ++held_;
     }
+    for (double& sum : sum_) sum = 0.0;
     open_ = false;
+  }
+  /// A wall contact's energies (entry e of the chunk), held as one more subtotal.
+  void holdWallContact(const ContactChunk& c, std::size_t e, ExactPowers& powers) {
+    if (held_ == kHeld) flush(powers);
+    for (std::size_t k = 0; k < kSummed; ++k) subtotal_[k][held_] = c.energyRows[kSlots[k]][e];
+    ++held_;
+  }
+  /// Adds the subtotals held so far exactly, a slot's in one batch (ExactSum::addAll: far
+  /// cheaper than one by one). At the end of a part, and whenever the holding is full.
+  void flush(ExactPowers& powers) {
+    for (std::size_t k = 0; k < kSummed; ++k) powers.energy[kSlots[k]].addAll(subtotal_[k], held_);
+    held_ = 0;
   }
 
  private:
+  static constexpr std::size_t kHeld = 512;  // subtotals held per slot before a flush (≥ kChunk)
   static constexpr std::size_t kSummed = SummedSlots<kFriction, kOptional>::count;
   static constexpr const std::array<std::size_t, kSummed>& kSlots =
       SummedSlots<kFriction, kOptional>::slots;
@@ -383,24 +397,9 @@ class ParticleEnergies {
   std::uint32_t particle_ = 0;
   bool open_ = false;
   double sum_[kSummed] = {};
+  std::size_t held_ = 0;
+  double subtotal_[kSummed][kHeld];  ///< the closed particles' subtotals, not yet added
 };
-
-/// Adds the energies of the chunk's m wall contacts exactly, one by one, those of particles
-/// this process owns (`owned`, null: all; `who`: each contact's particle).
-template <bool kFriction, unsigned kOptional>
-void addWallEnergies(const ContactChunk& c, std::size_t m, ExactPowers& powers,
-                     const std::uint8_t* owned, const std::uint32_t* who) {
-  std::size_t counted = 0;
-  for (std::size_t e = 0; e < m; ++e) {
-    if (owned != nullptr && !owned[who[e]]) continue;
-    ++counted;
-    for (std::size_t slot : SummedSlots<kFriction, kOptional>::slots) {
-      powers.energy[slot].add(c.energyRows[slot][e]);
-    }
-  }
-  powers.wallContacts += counted;
-  if constexpr (kFriction) powers.tangentialEvaluations += counted;
-}
 
 /// How a pass sums its powers and wall reactions (SimulationConfig::exactSums).
 ///
@@ -431,6 +430,7 @@ struct BlockSums {
 /// this process accounts for: pairs whose first particle it owns, its particles' wall contacts.
 template <bool kFriction, unsigned kOptional>
 struct ExactSums {
+  ExactSums(ExactPowers& sums, const std::uint8_t* ownedBy) : powers(sums), owned(ownedBy) {}
   ExactPowers& powers;
   const std::uint8_t* owned;                        // null: every particle
   ParticleEnergies<kFriction, kOptional> energies;  // a particle's pairs stay in one block
@@ -446,14 +446,49 @@ struct ExactSums {
     if constexpr (kFriction) powers.tangentialEvaluations += counted;
   }
   void wallContacts(const ContactChunk& c, std::size_t m, const std::uint32_t* who) {
-    addWallEnergies<kFriction, kOptional>(c, m, powers, owned, who);
+    std::size_t counted = 0;
+    for (std::size_t e = 0; e < m; ++e) {
+      if (owned != nullptr && !owned[who[e]]) continue;
+      ++counted;
+      energies.holdWallContact(c, e, powers);
+    }
+    powers.wallContacts += counted;
+    if constexpr (kFriction) powers.tangentialEvaluations += counted;
   }
   void wall(std::size_t w, const Vec3& force, double power, std::uint32_t particle) {
     if (owned != nullptr && !owned[particle]) return;
-    powers.wallPower.add(power);
-    for (int a = 0; a < 3; ++a) powers.reaction[3 * w + a].add(-force[a]);
+    if (held == kHeld) flushPushes();
+    pushes[held++] = {static_cast<std::uint32_t>(w), power, -force};
   }
   void endBlock() { energies.close(powers, owned); }
+  void endPart() {
+    energies.flush(powers);
+    flushPushes();
+  }
+
+  /// The wall contacts' powers and pushes held, each sum's added exactly in one batch.
+  void flushPushes() {
+    double batch[kHeld];
+    for (std::size_t q = 0; q < held; ++q) batch[q] = pushes[q].power;
+    powers.wallPower.addAll(batch, held);
+    for (std::size_t k = 0; k < powers.reaction.size(); ++k) {
+      std::size_t terms = 0;
+      for (std::size_t q = 0; q < held; ++q) {
+        if (pushes[q].wall == k / 3) batch[terms++] = pushes[q].push[static_cast<int>(k % 3)];
+      }
+      powers.reaction[k].addAll(batch, terms);
+    }
+    held = 0;
+  }
+
+  static constexpr std::size_t kHeld = 256;  ///< wall contacts held before a flush
+  struct Push {
+    std::uint32_t wall;
+    double power;  ///< [W]
+    Vec3 push;     ///< on the wall [N]
+  };
+  std::size_t held = 0;
+  Push pushes[kHeld];
 };
 
 /// The advanced history of the chunk's entry e as a stored record.
@@ -619,13 +654,13 @@ class PlannedPass {
     if (s_.config.exactSums) {
       ExactPowers& part = scratch_.partPowers[t];
       part.clear(walls_);
+      ExactSums<kFriction, kOptional> sums(part, s_.owned.empty() ? nullptr : s_.owned.data());
       for (std::size_t b = first; b < last; ++b) {
-        ExactSums<kFriction, kOptional> sums{
-            part, s_.owned.empty() ? nullptr : s_.owned.data(), {}};
         blockPairs(b, chunk, sums);
         sums.endBlock();
         blockWalls(b, chunk, sums);
       }
+      sums.endPart();
     } else {
       for (std::size_t b = first; b < last; ++b) {
         Vec3* reaction = scratch_.blockReaction.data() + b * walls_;
