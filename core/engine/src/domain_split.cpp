@@ -357,8 +357,23 @@ void redistribute(SimulationState& s) {
   const double halo = s.split.halo;
   const Particles& p = s.particles;
   const std::size_t n = p.size();
-  std::vector<std::vector<int>> near(n);
-  for (std::size_t i = 0; i < n; ++i) near[i] = holders(domains, p.position[i], halo);
+  // Per particle held, the ranks that will hold it (holders), ascending, in one array:
+  // near[nearStart[i], nearStart[i + 1]) (one allocation, not one a particle).
+  std::vector<int> near;
+  std::vector<std::uint32_t> nearStart(n + 1, 0);
+  near.reserve(n + n / 8);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& x = p.position[i];
+    const int owner = domains.owner(x);
+    const std::vector<int> ghosts = domains.ghostRanks(x, halo);  // mostly empty: not allocated
+    const auto at = std::upper_bound(ghosts.begin(), ghosts.end(), owner);
+    near.insert(near.end(), ghosts.begin(), at);
+    near.push_back(owner);
+    near.insert(near.end(), at, ghosts.end());
+    nearStart[i + 1] = static_cast<std::uint32_t>(near.size());
+  }
+  auto nearBegin = [&](std::size_t i) { return near.begin() + std::ptrdiff_t(nearStart[i]); };
+  auto nearEnd = [&](std::size_t i) { return near.begin() + std::ptrdiff_t(nearStart[i + 1]); };
   const std::size_t ranks = static_cast<std::size_t>(s.ranks->size());
   const int me = s.ranks->rank();
   // Each rank sends what it owns: its particles, and the springs of the pairs they are first of
@@ -376,7 +391,8 @@ void redistribute(SimulationState& s) {
     const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
     const auto from = mine.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
     bool stays = false;
-    for (int rank : near[i]) {
+    for (auto it = nearBegin(i); it != nearEnd(i); ++it) {
+      const int rank = *it;
       if (rank == me) {
         stays = true;
         continue;
@@ -400,7 +416,7 @@ void redistribute(SimulationState& s) {
     forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
       if (!s.owned[i] || !spring.holdsSomething()) return;
       both.clear();
-      std::set_intersection(near[i].begin(), near[i].end(), near[j].begin(), near[j].end(),
+      std::set_intersection(nearBegin(i), nearEnd(i), nearBegin(j), nearEnd(j),
                             std::back_inserter(both));
       for (int r : both) {
         (r == me ? mine : away[std::size_t(r)]).pairs.push_back({idOf(s, i), idOf(s, j), spring});
