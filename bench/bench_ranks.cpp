@@ -55,9 +55,11 @@ class CountingCommunicator : public Communicator {
     sent_ += others() * values.size() * sizeof(std::uint64_t);
     world_->sumOverRanks(values);
   }
-  void mergeOverRanks(std::vector<granular::ExactSum>& sums) const override {
-    sent_ += others() * sums.size() * sizeof(granular::ExactSum::Words);
-    world_->mergeOverRanks(sums);
+  void mergeOverRanks(std::vector<granular::ExactSum>& sums,
+                      std::vector<std::uint64_t>& counts) const override {
+    sent_ += others() * (sums.size() * (sizeof(granular::ExactSum::Words) + 2 * sizeof(double)) +
+                         counts.size() * sizeof(std::uint64_t));
+    world_->mergeOverRanks(sums, counts);
   }
   std::vector<std::vector<std::byte>> exchange(
       const std::vector<std::vector<std::byte>>& outgoing) const override {
@@ -65,6 +67,14 @@ class CountingCommunicator : public Communicator {
       if (static_cast<int>(r) != rank()) sent_ += outgoing[r].size();
     }
     return world_->exchange(outgoing);
+  }
+  std::vector<std::vector<std::byte>> exchangeKnown(
+      const std::vector<std::vector<std::byte>>& outgoing,
+      const std::vector<std::size_t>& incoming) const override {
+    for (std::size_t r = 0; r < outgoing.size(); ++r) {
+      if (static_cast<int>(r) != rank()) sent_ += outgoing[r].size();
+    }
+    return world_->exchangeKnown(outgoing, incoming);
   }
   std::vector<std::byte> broadcast(const std::vector<std::byte>& bytes) const override {
     return world_->broadcast(bytes);

@@ -22,6 +22,11 @@ TEST(Communicator, OneProcessIsRankZeroOfOneAndReturnsItsArguments) {
   EXPECT_EQ(sums[1].value(), -3.0);
   const std::vector<std::vector<std::byte>> out{{std::byte{1}, std::byte{2}}};
   EXPECT_EQ(c->exchange(out), out);
+  EXPECT_EQ(c->exchangeKnown(out, {2}), out);
+  std::vector<std::uint64_t> counts{3, 4};
+  c->mergeOverRanks(sums, counts);
+  EXPECT_EQ(sums[0].value(), 0.1);
+  EXPECT_EQ(counts, (std::vector<std::uint64_t>{3, 4}));
   EXPECT_EQ(c->broadcast(out[0]), out[0]);
 }
 

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <vector>
 
 #include "granular/bricks.hpp"
 #include "ranks.hpp"
@@ -67,6 +69,47 @@ TEST(Ranks, ExchangeDeliversEachRanksBytesToEachRank) {
   }
   std::vector<std::byte> mine(5, std::byte(r + 7));
   EXPECT_EQ(w.broadcast(mine), std::vector<std::byte>(5, std::byte(7)));
+}
+
+TEST(Ranks, MergingWithCountsAndSpecialValuesAgreesOnEveryRank) {
+  // Sums and counts in one reduction; a special value on one rank reaches every rank's sum as
+  // IEEE addition would give it (one rank's +inf: +inf; +inf and -inf on two ranks: NaN).
+  const Communicator& w = world();
+  const int r = w.rank(), n = w.size();
+  std::vector<ExactSum> sums(3);
+  sums[0].add(0.25 * (r + 1));
+  if (r == n - 1) sums[1].add(std::numeric_limits<double>::infinity());
+  sums[1].add(1.0);
+  if (r == 0) sums[2].add(std::numeric_limits<double>::infinity());
+  if (r == n - 1) sums[2].add(-std::numeric_limits<double>::infinity());
+  std::vector<std::uint64_t> counts{std::uint64_t(r + 1), 7};
+  w.mergeOverRanks(sums, counts);
+  EXPECT_EQ(sums[0].value(), 0.25 * n * (n + 1) / 2);
+  EXPECT_EQ(sums[1].value(), std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::isnan(sums[2].value()));
+  EXPECT_EQ(counts, (std::vector<std::uint64_t>{std::uint64_t(n * (n + 1) / 2), 7u * n}));
+}
+
+TEST(Ranks, ExchangeOfKnownSizesDeliversToTheRanksThatExpectIt) {
+  // Each rank sends to the next only (a ring: the ghosts' neighbours), r + 3 bytes; the others
+  // get nothing and expect nothing, and no message passes between them.
+  const Communicator& w = world();
+  const int r = w.rank(), n = w.size();
+  const int next = (r + 1) % n, previous = (r + n - 1) % n;
+  std::vector<std::vector<std::byte>> out(n);
+  for (int k = 0; k < r + 3; ++k) out[next].push_back(std::byte(r * 16 + k));
+  std::vector<std::size_t> incoming(n, 0);
+  incoming[previous] = static_cast<std::size_t>(previous + 3);
+  const std::vector<std::vector<std::byte>> in = w.exchangeKnown(out, incoming);
+  ASSERT_EQ(static_cast<int>(in.size()), n);
+  for (int from = 0; from < n; ++from) {
+    if (from != previous) {
+      EXPECT_TRUE(in[from].empty()) << "from " << from;
+      continue;
+    }
+    ASSERT_EQ(in[from].size(), incoming[from]);
+    for (int k = 0; k < from + 3; ++k) EXPECT_EQ(in[from][k], std::byte(from * 16 + k));
+  }
 }
 
 TEST(Ranks, EveryRankCutsTheBoxAlike) {

@@ -11,9 +11,14 @@ class SingleProcess final : public Communicator {
   double maxOverRanks(double x) const override { return x; }
   bool anyOverRanks(bool x) const override { return x; }
   void sumOverRanks(std::vector<std::uint64_t>&) const override {}
-  void mergeOverRanks(std::vector<ExactSum>&) const override {}
+  void mergeOverRanks(std::vector<ExactSum>&, std::vector<std::uint64_t>&) const override {}
   std::vector<std::vector<std::byte>> exchange(
       const std::vector<std::vector<std::byte>>& outgoing) const override {
+    return outgoing;
+  }
+  std::vector<std::vector<std::byte>> exchangeKnown(
+      const std::vector<std::vector<std::byte>>& outgoing,
+      const std::vector<std::size_t>&) const override {
     return outgoing;
   }
   std::vector<std::byte> broadcast(const std::vector<std::byte>& bytes) const override {

@@ -462,7 +462,11 @@ void exchangeGhosts(const SimulationState& s, std::size_t width, Put put, Get ge
       at += width * sizeof(double);
     }
   }
-  const std::vector<std::vector<std::byte>> in = s.ranks->exchange(out);
+  std::vector<std::size_t> expected(ranks);
+  for (std::size_t r = 0; r < ranks; ++r) {
+    expected[r] = s.split.receiveFrom[r].size() * width * sizeof(double);
+  }
+  const std::vector<std::vector<std::byte>> in = s.ranks->exchangeKnown(out, expected);
   for (std::size_t r = 0; r < ranks; ++r) {
     const std::vector<std::uint32_t>& ghosts = s.split.receiveFrom[r];
     if (in[r].size() != ghosts.size() * width * sizeof(double)) {

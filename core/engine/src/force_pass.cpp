@@ -316,11 +316,15 @@ struct SummedSlots {
 /// same for any thread count and any vector width).
 template <bool kFriction, unsigned kOptional>
 void addChunkPowers(const ContactChunk& c, std::size_t m, ContactPowers& powers) {
+  // In locals: the rows might alias the totals for all the compiler knows, which would store
+  // and reload every total at every contact.
+  using Slots = SummedSlots<kFriction, kOptional>;
+  double total[Slots::count];
+  for (std::size_t k = 0; k < Slots::count; ++k) total[k] = powers.energy[Slots::slots[k]];
   for (std::size_t e = 0; e < m; ++e) {
-    for (std::size_t slot : SummedSlots<kFriction, kOptional>::slots) {
-      powers.energy[slot] += c.energyRows[slot][e];
-    }
+    for (std::size_t k = 0; k < Slots::count; ++k) total[k] += c.energyRows[Slots::slots[k]][e];
   }
+  for (std::size_t k = 0; k < Slots::count; ++k) powers.energy[Slots::slots[k]] = total[k];
   if constexpr (kFriction) powers.tangentialEvaluations += m;
 }
 
@@ -348,13 +352,16 @@ class ParticleEnergies {
     }
     ends[m - 1] = false;
     double total[kSummed][kChunk];
+    double sum[kSummed];  // in locals, as addChunkPowers
+    for (std::size_t k = 0; k < kSummed; ++k) sum[k] = sum_[k];
     for (std::size_t e = 0; e < m; ++e) {
       for (std::size_t k = 0; k < kSummed; ++k) {
-        sum_[k] += c.energyRows[kSlots[k]][e];
-        total[k][e] = sum_[k];
-        sum_[k] = ends[e] ? 0.0 : sum_[k];
+        sum[k] += c.energyRows[kSlots[k]][e];
+        total[k][e] = sum[k];
+        sum[k] = ends[e] ? 0.0 : sum[k];
       }
     }
+    for (std::size_t k = 0; k < kSummed; ++k) sum_[k] = sum[k];
     if (held_ + count > kHeld) flush(powers);
     for (std::size_t k = 0; k < kSummed; ++k) {
       for (std::size_t q = 0; q < count; ++q) subtotal_[k][held_ + q] = total[k][at[q]];
@@ -1067,12 +1074,11 @@ void ExactPowers::mergeOverRanks(const Communicator& ranks) {
   std::vector<ExactSum> sums(energy, energy + kEnergySlots);
   sums.push_back(wallPower);
   sums.insert(sums.end(), reaction.begin(), reaction.end());
-  ranks.mergeOverRanks(sums);
+  std::vector<std::uint64_t> counts{particleContacts, wallContacts, tangentialEvaluations};
+  ranks.mergeOverRanks(sums, counts);  // one reduction
   std::copy(sums.begin(), sums.begin() + kEnergySlots, energy);
   wallPower = sums[kEnergySlots];
   std::copy(sums.begin() + kEnergySlots + 1, sums.end(), reaction.begin());
-  std::vector<std::uint64_t> counts{particleContacts, wallContacts, tangentialEvaluations};
-  ranks.sumOverRanks(counts);
   particleContacts = counts[0];
   wallContacts = counts[1];
   tangentialEvaluations = counts[2];

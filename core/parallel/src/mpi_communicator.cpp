@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "granular/mpi_session.hpp"
 
@@ -46,31 +47,75 @@ class MpiCommunicator final : public Communicator {
                         MPI_SUM, comm_),
           "MPI_Allreduce (sum)");
   }
-  void mergeOverRanks(std::vector<ExactSum>& sums) const override {
-    // The carried words summed element by element (limbs and count) and the flags ORed: the
-    // merge of every rank's accumulator (ExactSum::words), integer sums in any order.
-    constexpr int kSummed = ExactSum::kLimbs + 1, kWords = ExactSum::kLimbs + 2;
+  void mergeOverRanks(std::vector<ExactSum>& sums,
+                      std::vector<std::uint64_t>& counts) const override {
+    // One reduction of integers: per accumulator its carried limbs and count (ExactSum::words),
+    // summed element by element, and its special-value flags as three 0/1 counters (summed,
+    // then nonzero: the flags ORed); then the counts. Integer sums in any order: the merge of
+    // every rank's accumulator.
+    constexpr std::size_t kSummed = ExactSum::kLimbs + 1, kFlags = 3;
+    constexpr std::size_t kPer = kSummed + kFlags;
     const std::size_t n = sums.size();
-    std::vector<std::int64_t> limbs(n * kSummed), flags(n);
+    std::vector<std::int64_t> words(n * kPer + counts.size());
     for (std::size_t k = 0; k < n; ++k) {
       const ExactSum::Words w = sums[k].words();
-      std::copy(w.begin(), w.begin() + kSummed, limbs.begin() + k * kSummed);
-      flags[k] = w[kWords - 1];
+      std::int64_t* at = words.data() + k * kPer;
+      std::copy(w.begin(), w.begin() + kSummed, at);
+      for (std::size_t f = 0; f < kFlags; ++f) at[kSummed + f] = (w[kSummed] >> f) & 1;
     }
-    check(MPI_Allreduce(MPI_IN_PLACE, limbs.data(), static_cast<int>(limbs.size()), MPI_INT64_T,
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      words[n * kPer + c] = static_cast<std::int64_t>(counts[c]);
+    }
+    check(MPI_Allreduce(MPI_IN_PLACE, words.data(), static_cast<int>(words.size()), MPI_INT64_T,
                         MPI_SUM, comm_),
           "MPI_Allreduce (exact sums)");
-    check(
-        MPI_Allreduce(MPI_IN_PLACE, flags.data(), static_cast<int>(n), MPI_INT64_T, MPI_BOR, comm_),
-        "MPI_Allreduce (exact sums' flags)");
     for (std::size_t k = 0; k < n; ++k) {
+      const std::int64_t* at = words.data() + k * kPer;
       ExactSum::Words w{};
-      std::copy(limbs.begin() + k * kSummed, limbs.begin() + (k + 1) * kSummed, w.begin());
-      w[kWords - 1] = flags[k];
+      std::copy(at, at + kSummed, w.begin());
+      for (std::size_t f = 0; f < kFlags; ++f) {
+        if (at[kSummed + f] != 0) w[kSummed] |= std::int64_t{1} << f;
+      }
       sums[k] = ExactSum::fromWords(w);
     }
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+      counts[c] = static_cast<std::uint64_t>(words[n * kPer + c]);
+    }
   }
-
+  std::vector<std::vector<std::byte>> exchangeKnown(
+      const std::vector<std::vector<std::byte>>& outgoing,
+      const std::vector<std::size_t>& incoming) const override {
+    if (static_cast<int>(outgoing.size()) != size_ || static_cast<int>(incoming.size()) != size_) {
+      throw std::invalid_argument("exchange: one buffer and one size per rank expected");
+    }
+    // Point to point, with the ranks that have something to send or receive only.
+    constexpr int kTag = 24;
+    std::vector<std::vector<std::byte>> in(static_cast<std::size_t>(size_));
+    std::vector<MPI_Request> requests;
+    for (int r = 0; r < size_; ++r) {
+      const std::size_t k = static_cast<std::size_t>(r);
+      if (r == rank_) {
+        in[k] = outgoing[k];
+      } else if (incoming[k] > 0) {
+        in[k].resize(incoming[k]);
+        requests.emplace_back();
+        check(MPI_Irecv(in[k].data(), static_cast<int>(incoming[k]), MPI_BYTE, r, kTag, comm_,
+                        &requests.back()),
+              "MPI_Irecv");
+      }
+    }
+    for (int r = 0; r < size_; ++r) {
+      const std::size_t k = static_cast<std::size_t>(r);
+      if (r == rank_ || outgoing[k].empty()) continue;
+      requests.emplace_back();
+      check(MPI_Isend(outgoing[k].data(), static_cast<int>(outgoing[k].size()), MPI_BYTE, r, kTag,
+                      comm_, &requests.back()),
+            "MPI_Isend");
+    }
+    check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE),
+          "MPI_Waitall");
+    return in;
+  }
   std::vector<std::vector<std::byte>> exchange(
       const std::vector<std::vector<std::byte>>& outgoing) const override {
     if (static_cast<int>(outgoing.size()) != size_) {

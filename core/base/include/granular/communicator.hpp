@@ -34,14 +34,27 @@ class Communicator {
     sumOverRanks(v);
     return v[0];
   }
-  /// Merges the ranks' accumulators into each rank's (ExactSum::words): the same bits on every
-  /// rank, whatever the split of the terms among them.
-  virtual void mergeOverRanks(std::vector<ExactSum>& sums) const = 0;
+  /// Merges the ranks' accumulators into each rank's (ExactSum::words), and sums `counts` over
+  /// the ranks, in one reduction: the same bits on every rank, whatever the split of the terms
+  /// among them.
+  virtual void mergeOverRanks(std::vector<ExactSum>& sums,
+                              std::vector<std::uint64_t>& counts) const = 0;
+  /// The same without counts.
+  void mergeOverRanks(std::vector<ExactSum>& sums) const {
+    std::vector<std::uint64_t> none;
+    mergeOverRanks(sums, none);
+  }
 
   /// Sends outgoing[r] to rank r (r may be this rank) and returns what each rank sent here,
   /// indexed by sender. outgoing has size() entries.
   virtual std::vector<std::vector<std::byte>> exchange(
       const std::vector<std::vector<std::byte>>& outgoing) const = 0;
+  /// The same where each rank knows how many bytes every other will send it (incoming[r]): only
+  /// the ranks with something to send or receive exchange messages, with no step to agree the
+  /// sizes first (the ghosts' refresh each step). The sizes must be the senders' exactly.
+  virtual std::vector<std::vector<std::byte>> exchangeKnown(
+      const std::vector<std::vector<std::byte>>& outgoing,
+      const std::vector<std::size_t>& incoming) const = 0;
   /// Rank 0's bytes, on every rank.
   virtual std::vector<std::byte> broadcast(const std::vector<std::byte>& fromRankZero) const = 0;
 
