@@ -175,12 +175,18 @@ int CommandLine::run(int argc, char** argv) {
     run_.ranks = ranks_;
     return runCommand(run_);
   }
-  // The other commands run on one process: under mpirun, rank 0 alone.
-  if (!root) return 0;
-  if (*paperCommand_) return paperCommand(paper_);
-  if (*calibrateCommand_) return calibrateCommand(calibrate_);
-  if (*figuresCommand_) return figuresCommand(figuresDir_);
-  return 2;
+  // The other commands run on one process: under mpirun, rank 0 alone, while the others wait
+  // asleep (not polling: rank 0's threads keep every core).
+  int code = 2;
+  if (root) {
+    if (*paperCommand_) code = paperCommand(paper_);
+    if (*calibrateCommand_) code = calibrateCommand(calibrate_);
+    if (*figuresCommand_) code = figuresCommand(figuresDir_);
+  } else {
+    code = 0;
+  }
+  if (ranks_) ranks_->restingBarrier();
+  return code;
 }
 
 }  // namespace granular::app

@@ -9,6 +9,10 @@
 /// counted by a Communicator that wraps the world's: the ghosts' refresh, the redistribution at
 /// rebuilds and the reductions), the particles a rank holds (owned and ghosts, mean), and the
 /// peak resident memory per particle held (VmHWM of the timed steps, from the mean rank).
+/// --bed FILE keeps the settled bed: written there after settling when FILE does not exist, read
+/// from it (no settling) when it does, so that several rows time one settled bed (the settling
+/// is deterministic: the same file on any rank count; it records n, --settle and --layers and is
+/// refused for others).
 #include <malloc.h>
 
 #include <algorithm>
@@ -93,12 +97,66 @@ struct Options {
   /// 0: the engine alone (no split, block sums: the one-process baseline); 1: split (also on
   /// one rank); 2: alone with exact sums.
   long mode = 1;
+  std::string bed;  ///< --bed: the settled bed's file (empty: settle every time)
 };
+
+/// The settled bed's positions, radii and masses, with the options that made it.
+struct BedHeader {
+  long n, settle, layers;
+};
+
+bool readBed(const Options& o, granular::Particles& p) {
+  std::ifstream in(o.bed, std::ios::binary);
+  if (!in) return false;
+  BedHeader h{};
+  in.read(reinterpret_cast<char*>(&h), sizeof h);
+  if (!in || h.n != o.n || h.settle != o.settle || h.layers != o.layers) {
+    std::cerr << "granular_bench_ranks: " << o.bed << " holds another bed (n " << h.n << ", settle "
+              << h.settle << ", layers " << h.layers << "); remove it\n";
+    std::exit(2);
+  }
+  const std::size_t n = static_cast<std::size_t>(h.n);
+  p.position.resize(n);
+  p.radius.resize(n);
+  p.mass.resize(n);
+  in.read(reinterpret_cast<char*>(p.position.data()), std::streamsize(n * sizeof(granular::Vec3)));
+  in.read(reinterpret_cast<char*>(p.radius.data()), std::streamsize(n * sizeof(double)));
+  in.read(reinterpret_cast<char*>(p.mass.data()), std::streamsize(n * sizeof(double)));
+  if (!in) {
+    std::cerr << "granular_bench_ranks: " << o.bed << " is cut short; remove it\n";
+    std::exit(2);
+  }
+  p.velocity.assign(n, granular::Vec3::Zero());
+  p.angularVelocity.assign(n, granular::Vec3::Zero());
+  return true;
+}
+
+void writeBed(const Options& o, const granular::Particles& p) {
+  const std::string part = o.bed + ".part";
+  std::ofstream out(part, std::ios::binary);
+  const BedHeader h{o.n, o.settle, o.layers};
+  out.write(reinterpret_cast<const char*>(&h), sizeof h);
+  out.write(reinterpret_cast<const char*>(p.position.data()),
+            std::streamsize(p.size() * sizeof(granular::Vec3)));
+  out.write(reinterpret_cast<const char*>(p.radius.data()),
+            std::streamsize(p.size() * sizeof(double)));
+  out.write(reinterpret_cast<const char*>(p.mass.data()),
+            std::streamsize(p.size() * sizeof(double)));
+  out.close();
+  if (!out || std::rename(part.c_str(), o.bed.c_str()) != 0) {
+    std::cerr << "granular_bench_ranks: could not write " << o.bed << "\n";
+    std::exit(1);
+  }
+}
 
 Options parse(int argc, char** argv) {
   Options o;
   for (int k = 1; k + 1 < argc; k += 2) {
     const std::string arg = argv[k];
+    if (arg == "--bed") {
+      o.bed = argv[k + 1];
+      continue;
+    }
     const long value = std::strtol(argv[k + 1], nullptr, 10);  // --mode: 1 alone, 2 split,
                                                                // 3 alone with exact sums
     if (value < 1) {
@@ -119,7 +177,7 @@ Options parse(int argc, char** argv) {
       o.mode = value - 1;
     } else {
       std::cerr << "usage: granular_bench_ranks [--n N] [--settle S] [--steps T] [--layers L] "
-                   "[--threads P] [--mode 1|2|3]\n";
+                   "[--threads P] [--mode 1|2|3] [--bed FILE]\n";
       std::exit(2);
     }
   }
@@ -158,7 +216,7 @@ int main(int argc, char** argv) {
     b->balance(p.position, 0.07);
     return b;
   };
-  {
+  if (o.bed.empty() || !readBed(o, particles)) {
     // Settled as bench_scale settles (near-critical normal damping), split, then gathered.
     granular::SimulationConfig settleConfig = config;
     settleConfig.material.normalDamping = 400.0;
@@ -166,6 +224,7 @@ int main(int argc, char** argv) {
     settle.splitAmong(bricks(particles), counting);
     settle.run(static_cast<std::uint64_t>(o.settle));
     particles = settle.wholeState().particles();
+    if (!o.bed.empty() && root) writeBed(o, particles);
   }
   std::fill(particles.velocity.begin(), particles.velocity.end(), granular::Vec3::Zero());
   std::fill(particles.angularVelocity.begin(), particles.angularVelocity.end(),

@@ -2,9 +2,11 @@
 /// (granular/mpi_session.hpp). Built with or without MPI: without it (GRANULAR_WITH_MPI
 /// undefined) the session does nothing and the world is one process.
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "granular/mpi_session.hpp"
@@ -160,6 +162,16 @@ class MpiCommunicator final : public Communicator {
   }
 
   void barrier() const override { check(MPI_Barrier(comm_), "MPI_Barrier"); }
+  void restingBarrier() const override {
+    MPI_Request request;
+    check(MPI_Ibarrier(comm_, &request), "MPI_Ibarrier");
+    for (;;) {
+      int done = 0;
+      check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), "MPI_Test");
+      if (done) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
 
  private:
   MPI_Comm comm_;

@@ -64,6 +64,9 @@ class Communicator {
 
   /// Waits until every rank has reached this point.
   virtual void barrier() const = 0;
+  /// The same for a rank that may wait long (while rank 0 alone runs a command): it sleeps
+  /// between looks instead of keeping a core busy.
+  virtual void restingBarrier() const { barrier(); }
 };
 
 /// One process: rank 0 of 1; every reduction returns its argument.
