@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <random>
 #include <stdexcept>
 
 #include "granular/bricks.hpp"
+#include "granular/communicator.hpp"
 
 using namespace granular;
 
@@ -115,4 +117,30 @@ TEST(Bricks, BalanceEqualisesTheSlabsWhateverTheOrder) {
     below = c;
   }
   EXPECT_GE(3.0 - below, 0.3 - 1e-12);
+}
+
+TEST(Bricks, RebalancedCountsEachRanksOwnAndCutsNearTheQuantiles) {
+  // The bed of the last test, cut evenly first (the top bricks empty), then rebalanced from the
+  // positions (one process: every position its own): each slab near a quarter, each cut within
+  // two bins' width (2 · 3 m / 4096) of balance()'s (which cuts halfway between two positions,
+  // this one on a bin's edge), the same cuts for any order, and the original map unchanged.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3> p;
+  for (int k = 0; k < 4000; ++k) p.emplace_back(u(rng), u(rng), 0.8 * u(rng) * u(rng));
+  const std::unique_ptr<Communicator> one = singleProcess();
+  Bricks even(4, Vec3(0, 0, 0), Vec3(1, 1, 3));
+  const auto moved = std::dynamic_pointer_cast<const Bricks>(even.rebalanced(p, *one));
+  ASSERT_NE(moved, nullptr);
+  EXPECT_EQ(even.cuts(2), (std::vector<double>{0.75, 1.5, 2.25}));
+  std::vector<int> count(4, 0);
+  for (const Vec3& x : p) ++count[moved->owner(x)];
+  for (int r = 0; r < 4; ++r) EXPECT_NEAR(count[r], 1000, 40) << r;
+  Bricks exact(4, Vec3(0, 0, 0), Vec3(1, 1, 3));
+  exact.balance(p, 0.0);
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_NEAR(moved->cuts(2)[k], exact.cuts(2)[k], 2 * 3.0 / 4096);
+  std::shuffle(p.begin(), p.end(), rng);
+  const auto again = std::dynamic_pointer_cast<const Bricks>(even.rebalanced(p, *one));
+  EXPECT_EQ(again->cuts(2), moved->cuts(2));
 }

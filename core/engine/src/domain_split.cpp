@@ -353,6 +353,19 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
 }
 
 void redistribute(SimulationState& s) {
+  if (s.split.rebalanceDue) {
+    // Every rank reaches here alike (the due flag comes from reductions).
+    s.split.rebalanceDue = false;
+    std::vector<Vec3> owned;
+    for (std::size_t i = 0; i < s.particles.size(); ++i) {
+      if (s.owned[i]) owned.push_back(s.particles.position[i]);
+    }
+    if (std::shared_ptr<const DomainMap> moved = s.split.domains->rebalanced(owned, *s.ranks)) {
+      s.split.domains = std::move(moved);
+      ++s.split.rebalances;
+      s.split.rebalanceAbove = 0.0;  // set from the imbalance this move leaves (below)
+    }
+  }
   const DomainMap& domains = *s.split.domains;
   const double halo = s.split.halo;
   const Particles& p = s.particles;
@@ -436,11 +449,21 @@ void redistribute(SimulationState& s) {
 void afterSplitRebuild(SimulationState& s) {
   NeighbourList& list = s.neighbours;
   list.referenceRounding = s.ranks->maxOverRanks(list.referenceRounding);
-  std::uint64_t mine = 0;
+  std::vector<std::uint64_t> mine{0, 0};  // candidate pairs, particles owned
   for (std::size_t i = 0; i + 1 < list.rowStart.size(); ++i) {
-    if (s.owned[i]) mine += list.rowStart[i + 1] - list.rowStart[i];
+    if (s.owned[i]) mine[0] += list.rowStart[i + 1] - list.rowStart[i];
   }
-  s.split.pairs = s.ranks->sumOverRanks(mine);
+  for (std::uint8_t o : s.owned) mine[1] += o;
+  const double largest = s.ranks->maxOverRanks(static_cast<double>(mine[1]));
+  s.ranks->sumOverRanks(mine);
+  s.split.pairs = mine[0];
+  DomainSplit& split = s.split;
+  const double mean = static_cast<double>(mine[1]) / s.ranks->size();
+  split.imbalance = mean > 0.0 ? largest / mean : 1.0;
+  // A bar a twentieth above what the last move left, and never below 1.10: no move while the
+  // domains cannot do better (the cuts are shared planes), nor for a few particles' drift.
+  if (split.rebalanceAbove == 0.0) split.rebalanceAbove = std::max(1.10, 1.05 * split.imbalance);
+  split.rebalanceDue = split.imbalance > split.rebalanceAbove;
 }
 
 // ---- 4. Ghosts ----------------------------------------------------------------------------

@@ -258,6 +258,13 @@ struct DomainSplit {
   /// rank owns, both ascending (so that messages need no ids).
   std::vector<std::vector<std::uint32_t>> sendTo, receiveFrom;
   std::uint64_t pairs = 0;  ///< the whole run's candidate pairs
+  /// Load balance: when the rank owning the most particles owns more than `rebalanceAbove`
+  /// times the mean at a rebuild, the next rebuild moves the domains first
+  /// (DomainMap::rebalanced); the bar then stands a little above the imbalance that move left.
+  bool rebalanceDue = false;
+  double rebalanceAbove = 1.10;
+  double imbalance = 1.0;        ///< at the last rebuild: the largest owned count / the mean
+  std::uint64_t rebalances = 0;  ///< the domains moved so far
 };
 
 struct SimulationState {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -92,7 +93,26 @@ std::array<Vec3, 2> Bricks::bounds(int rank) const {
   return b;
 }
 
+template <class Quantile>
+std::vector<double> Bricks::cutsAt(int a, std::size_t n, Quantile quantile) const {
+  const int slabs = counts_[a];
+  std::vector<double> cuts;
+  double below = lo_[a];
+  for (int k = 1; k < slabs; ++k) {
+    // The k-th quantile, then kept minWidth from the last cut and from the room the cuts still
+    // to come need.
+    const std::size_t at = n * static_cast<std::size_t>(k) / static_cast<std::size_t>(slabs);
+    double cut = quantile(at);
+    const double highest = hi_[a] - (slabs - k) * minWidth_;
+    cut = std::min(std::max(cut, below + minWidth_), highest);
+    cuts.push_back(cut);
+    below = cut;
+  }
+  return cuts;
+}
+
 void Bricks::balance(const std::vector<Vec3>& positions, double minWidth) {
+  minWidth_ = minWidth;
   const std::size_t n = positions.size();
   if (n == 0) return;
   std::vector<double> c(n);
@@ -102,20 +122,45 @@ void Bricks::balance(const std::vector<Vec3>& positions, double minWidth) {
     for (std::size_t i = 0; i < n; ++i) c[i] = positions[i][a];
     if (hi_[a] - lo_[a] < slabs * minWidth) continue;  // no room to move them: they stay
     std::sort(c.begin(), c.end());                     // the same for any order of the positions
-    std::vector<double> cuts;
-    double below = lo_[a];
-    for (int k = 1; k < slabs; ++k) {
-      // The k-th quantile, halfway between the neighbouring coordinates, then kept minWidth
-      // from the last cut and from the room the cuts still to come need.
-      const std::size_t at = n * static_cast<std::size_t>(k) / static_cast<std::size_t>(slabs);
-      double cut = at == 0 ? c[0] : 0.5 * (c[at - 1] + c[std::min(at, n - 1)]);
-      const double highest = hi_[a] - (slabs - k) * minWidth;
-      cut = std::min(std::max(cut, below + minWidth), highest);
-      cuts.push_back(cut);
-      below = cut;
-    }
-    cuts_[a] = cuts;
+    // Halfway between the neighbouring coordinates.
+    cuts_[a] = cutsAt(a, n, [&](std::size_t at) {
+      return at == 0 ? c[0] : 0.5 * (c[at - 1] + c[std::min(at, n - 1)]);
+    });
   }
+}
+
+std::shared_ptr<const DomainMap> Bricks::rebalanced(const std::vector<Vec3>& owned,
+                                                    const Communicator& ranks) const {
+  constexpr std::size_t kBins = 4096;
+  std::vector<std::uint64_t> histogram(3 * kBins, 0);
+  auto binOf = [&](int a, double x) {
+    const double t = (x - lo_[a]) / (hi_[a] - lo_[a]) * static_cast<double>(kBins);
+    return t <= 0.0 ? std::size_t{0}
+                    : std::min(kBins - 1, static_cast<std::size_t>(std::isfinite(t) ? t : 0.0));
+  };
+  for (const Vec3& x : owned) {
+    for (int a = 0; a < 3; ++a) {
+      if (counts_[a] > 1) ++histogram[static_cast<std::size_t>(a) * kBins + binOf(a, x[a])];
+    }
+  }
+  ranks.sumOverRanks(histogram);
+  auto out = std::make_shared<Bricks>(*this);
+  for (int a = 0; a < 3; ++a) {
+    if (counts_[a] == 1 || hi_[a] - lo_[a] < counts_[a] * minWidth_) continue;
+    const std::uint64_t* h = histogram.data() + static_cast<std::size_t>(a) * kBins;
+    std::uint64_t n = 0;
+    for (std::size_t b = 0; b < kBins; ++b) n += h[b];
+    if (n == 0) continue;
+    // The value of rank `at` lies in the first bin whose running count passes it: the cut goes
+    // to that bin's upper edge.
+    out->cuts_[a] = cutsAt(a, n, [&](std::size_t at) {
+      std::uint64_t below = 0;
+      std::size_t b = 0;
+      while (b + 1 < kBins && below + h[b] <= at) below += h[b++];
+      return lo_[a] + (hi_[a] - lo_[a]) * static_cast<double>(b + 1) / static_cast<double>(kBins);
+    });
+  }
+  return out;
 }
 
 }  // namespace granular

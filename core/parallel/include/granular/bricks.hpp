@@ -6,6 +6,7 @@
 /// geometry, the same on every rank for the same inputs: every rank decides alike who owns what.
 #include <array>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "granular/domain_map.hpp"
@@ -42,8 +43,20 @@ class Bricks : public DomainMap {
   /// across a slab is balanced only on the average. Deterministic: the same positions (in any
   /// order) give the same cuts.
   void balance(const std::vector<Vec3>& positions, double minWidth);
+  /// The same bricks with the cuts moved to balance the particles that the ranks own, counted
+  /// over the ranks in 4096 bins an axis (one integer reduction: every rank gets the same cuts),
+  /// each cut on a bin's edge, at least the last balance()'s minWidth from its neighbours.
+  std::shared_ptr<const DomainMap> rebalanced(const std::vector<Vec3>& owned,
+                                              const Communicator& ranks) const override;
 
  private:
+  /// The cuts along one axis at the k/slabs quantiles of `count` values, from where `lowest`
+  /// and the cuts found so far allow, kept minWidth_ apart and from the faces; `quantile(at)`
+  /// gives the position of the value of rank `at` (0-based) in ascending order.
+  template <class Quantile>
+  std::vector<double> cutsAt(int axis, std::size_t count, Quantile quantile) const;
+
+  double minWidth_ = 0.0;  ///< the last balance()'s
   std::array<int, 3> counts_{1, 1, 1};
   std::array<std::vector<double>, 3> cuts_;
   Vec3 lo_, hi_;
