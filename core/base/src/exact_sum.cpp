@@ -24,27 +24,14 @@ void ExactSum::addSpecial(double x) {
   special_ |= std::isnan(x) ? 4 : (x > 0 ? 1 : 2);
 }
 
-// The batch's largest term has biased exponent top: every |x| < 2^(T+1), T = top − 1023. On the
-// grids g_j = 2^(T+1−40j), j = 1, 2, 3, a term splits exactly as x = q1 + q2 + q3 + r:
-//   q_j = (C_j + r) − C_j with C_j = 1.5·2^52·g_j rounds the remainder r to a multiple of g_j
-//   exactly, because C_j + r stays in [2^52 g_j, 2^53 g_j), where doubles are g_j apart
-//   (|r| < 2^40 g_j: the term itself at j = 1, then |r| ≤ g_{j−1}/2 = 2^39 g_j);
-//   r − q_j is exact (no more significant bits than r).
-// Each part is a multiple of its grid below 2^40 g_j, so up to 2^12 of them sum exactly in
-// double (multiples of g_j below 2^53 g_j are all doubles): four lanes of at most 256 terms
-// each, then the lanes. What is left below the third grid (terms more than about 70 binades
-// under the largest) is added one by one. The three part sums are then added as any term.
-// Far from the grids' reach of the double range (T + 13 must not overflow, g_3 must not be
-// subnormal) and for infinities and NaN, every term is added alone.
 namespace {
 
 /// Four doubles: one register under AVX2, two under SSE2.
 typedef double Lanes __attribute__((vector_size(32)));
 typedef std::int64_t LaneMask __attribute__((vector_size(32)));
 
-/// Adds the three parts of x[0, m) (m a multiple of 4) on the grids of c1, c2, c3 (addAll) to
-/// `part`, four terms at a time; true when some term leaves a remainder below the third grid.
-/// One step of splitFour: the four terms at x.
+/// One step of splitFour: the three parts of the four terms at x added to `part`, and whether
+/// any leaves a remainder (`left`).
 inline void splitStep(const double* x, const Lanes& v1, const Lanes& v2, const Lanes& v3,
                       Lanes (&part)[3], LaneMask& left) {
   Lanes r;

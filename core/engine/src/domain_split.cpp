@@ -134,67 +134,135 @@ void fitted(std::vector<T>& v, std::size_t n) {
   }
 }
 
-/// Replaces the particles of `s`, their derivatives and forces and the neighbour list by those
-/// of the records (particles ascending by id, any pair among them). The list's skin, wall
+/// A new array of n values, value k from get(k), replacing v (capacity near n: a rank that held
+/// the whole run before the split, or many more particles before a redistribution, gives the
+/// memory back).
+template <class T, class Get>
+void regather(std::vector<T>& v, std::size_t n, Get get) {
+  std::vector<T> out;
+  out.reserve(n + n / 16);
+  out.resize(n);
+  for (std::size_t k = 0; k < n; ++k) out[k] = get(k);
+  v.swap(out);
+}
+
+/// Replaces the particles of `s`, their derivatives and forces and the neighbour list by its
+/// particles `stay` (indices, ascending) and those of the records (any order, none of them held
+/// in `stay`), all ascending by id, with the batch's pairs (any pair among them). The stayers'
+/// values move within the state's arrays: no record is made of them. The list's skin, wall
 /// points, validity and rounding stay: the records come from one build of it.
-void assemble(SimulationState& s, const RecordBatch& batch) {
-  // Sorted by id through a permutation: a record is 400 bytes, a permutation entry 4.
+void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
+              const RecordBatch& batch) {
+  // The records sorted by id through a permutation (a record is 400 bytes, an entry 4), then
+  // merged with the stayers (ascending in id already): entry k of the new state comes from
+  // record from[k] when isRecord[k], else from particle from[k].
   const std::vector<ParticleRecord>& records = batch.particles;
-  const std::size_t n = records.size();
-  std::vector<std::uint32_t> order(n);
+  std::vector<std::uint32_t> order(records.size());
   std::iota(order.begin(), order.end(), 0U);
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return records[a].id < records[b].id; });
-  Particles& p = s.particles;
-  fitted(p.position, n);
-  fitted(p.velocity, n);
-  fitted(p.angularVelocity, n);
-  fitted(p.radius, n);
-  fitted(p.mass, n);
-  fitted(s.force, n);
-  if (!s.torque.empty()) fitted(s.torque, n);
-  Derivatives* motions[2] = {&s.translation, &s.rotation};
-  std::vector<Vec3>* orders[2][4];
-  for (int m = 0; m < 2; ++m) {
-    Derivatives& d = *motions[m];
-    std::vector<Vec3>* all[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
-    for (int k = 0; k < 4; ++k) {
-      orders[m][k] = all[k]->empty() ? nullptr : all[k];
-      if (orders[m][k]) fitted(*orders[m][k], n);
+  const std::size_t n = stay.size() + records.size();
+  std::vector<std::uint32_t> from(n);
+  std::vector<std::uint8_t> isRecord(n);
+  {
+    std::size_t a = 0, b = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const bool record =
+          a == stay.size() || (b < order.size() && records[order[b]].id < idOf(s, stay[a]));
+      if (!record && b < order.size() && records[order[b]].id == idOf(s, stay[a])) {
+        throw std::logic_error("split run: particle " + std::to_string(records[order[b]].id) +
+                               " arrives at a rank that keeps it");
+      }
+      isRecord[k] = record ? 1 : 0;
+      from[k] = record ? order[b++] : stay[a++];
     }
   }
-  std::vector<std::uint64_t>& id = s.split.globalId;
-  fitted(id, n);
+  auto pick = [&](std::size_t k, auto ofRecord, auto ofStayer) {
+    return isRecord[k] ? ofRecord(records[from[k]]) : ofStayer(std::size_t{from[k]});
+  };
+  // The wall candidates and their springs, before the list's are replaced: a stayer's from the
+  // list (one cursor a wall: the stayers come ascending), a record's from its bits.
   NeighbourList& list = s.neighbours;
-  fitted(list.referencePosition, n);
   const std::size_t walls = s.walls.size();
   const bool wallSprings = s.frictional;
   std::vector<std::vector<std::uint32_t>> wallParticles(walls);
   std::vector<std::vector<ContactHistory>> wallHistory(wallSprings ? walls : 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const ParticleRecord& r = records[order[i]];
-    id[i] = r.id;
-    p.position[i] = get3(r.x);
-    p.velocity[i] = get3(r.v);
-    p.angularVelocity[i] = get3(r.w);
-    p.radius[i] = r.radius;
-    p.mass[i] = r.mass;
-    for (int m = 0; m < 2; ++m) {
-      for (int k = 0; k < 4; ++k) {
-        if (orders[m][k]) (*orders[m][k])[i] = get3(r.derivative[m][k]);
+  {
+    std::vector<std::size_t> cursor(walls, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto at = static_cast<std::uint32_t>(k);
+      if (isRecord[k]) {
+        const ParticleRecord& r = records[from[k]];
+        std::size_t spring = r.wallHistoryAt;
+        for (std::size_t w = 0; w < walls; ++w) {
+          if ((r.wallCandidate >> w & 1) == 0) continue;
+          wallParticles[w].push_back(at);
+          if (wallSprings) wallHistory[w].push_back(batch.wallSprings.at(spring++));
+        }
+        continue;
+      }
+      const std::uint32_t i = from[k];
+      for (std::size_t w = 0; w < walls && w < list.wallParticles.size(); ++w) {
+        const std::vector<std::uint32_t>& on = list.wallParticles[w];
+        std::size_t& c = cursor[w];
+        while (c < on.size() && on[c] < i) ++c;
+        if (c == on.size() || on[c] != i) continue;
+        wallParticles[w].push_back(at);
+        if (!wallSprings) continue;
+        const bool held = w < list.wallHistory.size() && c < list.wallHistory[w].size();
+        wallHistory[w].push_back(held ? list.wallHistory[w][c] : ContactHistory{});
       }
     }
-    s.force[i] = get3(r.force);
-    if (!s.torque.empty()) s.torque[i] = get3(r.torque);
-    list.referencePosition[i] = Eigen::Vector3f(r.reference[0], r.reference[1], r.reference[2]);
-    std::size_t at = r.wallHistoryAt;
-    for (std::size_t w = 0; w < walls; ++w) {
-      if ((r.wallCandidate >> w & 1) == 0) continue;
-      wallParticles[w].push_back(static_cast<std::uint32_t>(i));
-      if (wallSprings) wallHistory[w].push_back(batch.wallSprings.at(at++));
+  }
+  Particles& p = s.particles;
+  regather(s.split.globalId, n, [&](std::size_t k) {
+    return pick(
+        k, [](const ParticleRecord& r) { return r.id; }, [&](std::size_t i) { return idOf(s, i); });
+  });
+  auto gather3 = [&](std::vector<Vec3>& v, auto field) {
+    regather(v, n, [&](std::size_t k) {
+      return pick(
+          k, [&](const ParticleRecord& r) { return get3(field(r)); },
+          [&](std::size_t i) { return v[i]; });
+    });
+  };
+  gather3(p.position, [](const ParticleRecord& r) -> const double(&)[3] { return r.x; });
+  gather3(p.velocity, [](const ParticleRecord& r) -> const double(&)[3] { return r.v; });
+  gather3(p.angularVelocity, [](const ParticleRecord& r) -> const double(&)[3] { return r.w; });
+  gather3(s.force, [](const ParticleRecord& r) -> const double(&)[3] { return r.force; });
+  if (!s.torque.empty()) {
+    gather3(s.torque, [](const ParticleRecord& r) -> const double(&)[3] { return r.torque; });
+  }
+  regather(p.radius, n, [&](std::size_t k) {
+    return pick(
+        k, [](const ParticleRecord& r) { return r.radius; },
+        [&](std::size_t i) { return p.radius[i]; });
+  });
+  regather(p.mass, n, [&](std::size_t k) {
+    return pick(
+        k, [](const ParticleRecord& r) { return r.mass; },
+        [&](std::size_t i) { return p.mass[i]; });
+  });
+  Derivatives* motions[2] = {&s.translation, &s.rotation};
+  for (int m = 0; m < 2; ++m) {
+    Derivatives& d = *motions[m];
+    std::vector<Vec3>* all[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
+    for (int o = 0; o < 4; ++o) {
+      if (all[o]->empty()) continue;
+      gather3(*all[o],
+              [m, o](const ParticleRecord& r) -> const double(&)[3] { return r.derivative[m][o]; });
     }
   }
+  regather(list.referencePosition, n, [&](std::size_t k) {
+    return pick(
+        k,
+        [](const ParticleRecord& r) {
+          return Eigen::Vector3f(r.reference[0], r.reference[1], r.reference[2]);
+        },
+        [&](std::size_t i) { return Eigen::Vector3f(list.referencePosition[i]); });
+  });
   // The pairs in local indices, sorted by (first, second) as the list keeps them.
+  const std::vector<std::uint64_t>& id = s.split.globalId;
   auto local = [&](std::uint64_t of) {
     const auto it = std::lower_bound(id.begin(), id.end(), of);
     if (it == id.end() || *it != of) {
@@ -346,7 +414,7 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
     if (kept[i] && kept[j]) batch.pairs.push_back({idOf(s, i), idOf(s, j), spring});
   });
   s.split.pairs = s.neighbours.second.size();
-  assemble(s, batch);
+  assemble(s, {}, batch);
   mapGhosts(s, halo);
   s.config.exactSums = true;
   s.predictedAhead = false;
@@ -390,40 +458,40 @@ void redistribute(SimulationState& s) {
   const std::size_t ranks = static_cast<std::size_t>(s.ranks->size());
   const int me = s.ranks->rank();
   // Each rank sends what it owns: its particles, and the springs of the pairs they are first of
-  // to the ranks that will hold both. What stays here is kept in place, compacted, and only
-  // what goes elsewhere (the ghost layers, the particles that left) is copied into messages:
-  // the transient of a redistribution is about one record a particle held.
-  RecordBatch mine;
-  recordParticles(
-      s, [&](std::size_t i) { return s.owned[i] != 0; }, mine);
-  std::vector<RecordBatch> away(ranks);
-  std::size_t kept = 0, keptSprings = 0;
-  for (std::size_t i = 0, k = 0; i < n; ++i) {
+  // to the ranks that will hold both. What stays here stays in the state's arrays (assemble
+  // moves it); only what goes elsewhere (the ghost layers, the particles that left) becomes
+  // records, copied into the messages.
+  std::vector<std::uint32_t> stay;
+  std::vector<std::uint8_t> leaves(n, 0);  // owned, and held by another rank after this
+  for (std::size_t i = 0; i < n; ++i) {
     if (!s.owned[i]) continue;
-    ParticleRecord r = mine.particles[k++];
-    const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
-    const auto from = mine.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
-    bool stays = false;
     for (auto it = nearBegin(i); it != nearEnd(i); ++it) {
-      const int rank = *it;
-      if (rank == me) {
-        stays = true;
-        continue;
+      if (*it == me) {
+        stay.push_back(static_cast<std::uint32_t>(i));
+      } else {
+        leaves[i] = 1;
       }
-      RecordBatch& to = away[std::size_t(rank)];
+    }
+  }
+  RecordBatch leaving;
+  recordParticles(
+      s, [&](std::size_t i) { return leaves[i] != 0; }, leaving);
+  std::vector<RecordBatch> away(ranks);
+  for (std::size_t i = 0, k = 0; i < n; ++i) {
+    if (!leaves[i]) continue;
+    const ParticleRecord& r = leaving.particles[k++];
+    const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
+    const auto from = leaving.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
+    for (auto it = nearBegin(i); it != nearEnd(i); ++it) {
+      if (*it == me) continue;
+      RecordBatch& to = away[std::size_t(*it)];
       to.particles.push_back(r);
       to.particles.back().wallHistoryAt = to.wallSprings.size();
       to.wallSprings.insert(to.wallSprings.end(), from, from + std::ptrdiff_t(springs));
     }
-    if (!stays) continue;
-    std::copy(from, from + std::ptrdiff_t(springs),
-              mine.wallSprings.begin() + std::ptrdiff_t(keptSprings));
-    r.wallHistoryAt = keptSprings;
-    keptSprings += springs;
-    mine.particles[kept++] = r;
   }
-  mine.particles.resize(kept);
-  mine.wallSprings.resize(keptSprings);
+  std::vector<ParticleRecord>().swap(leaving.particles);  // copied into the messages
+  RecordBatch mine;  // the pairs whose ends both stay or arrive here, then what arrives
   if (s.frictional) {
     std::vector<int> both;
     forEachPair(s, [&](std::size_t i, std::size_t j, const ContactHistory& spring) {
@@ -442,7 +510,7 @@ void redistribute(SimulationState& s) {
   }
   std::vector<RecordBatch>().swap(away);
   mergeInto(mine, s.ranks->exchange(bytes));
-  assemble(s, mine);
+  assemble(s, stay, mine);
   mapGhosts(s, halo);
 }
 
@@ -548,7 +616,7 @@ std::unique_ptr<SimulationState> gatherWhole(const SimulationState& s) {
   RecordBatch all;
   mergeInto(all, s.ranks->exchange(bytes));
   auto whole = std::make_unique<SimulationState>(s);
-  assemble(*whole, all);
+  assemble(*whole, {}, all);
   whole->split = DomainSplit{};
   whole->owned.clear();
   whole->ranks = nullptr;
