@@ -120,7 +120,7 @@ double remainder(double x, double c1, double c2, double c3) {
 //   r − q_j is exact (it has no more significant bits than r).
 // Each part is a multiple of its grid below 2^40 g_j, so up to 2^12 of them sum exactly in
 // double (the multiples of g_j below 2^53 g_j are all doubles): two sets of four lanes of at most
-// 135 terms each, then the lanes and the sets (each sum below 2^51 g_j: exact). What is left below
+// 129 terms each, then the lanes and the sets (each sum below 2^51 g_j: exact). What is left below
 // the third grid (terms more than about 70 binades under the largest) is added one by one. The
 // three part sums are then added as any term. Where the grids would leave the double range (C_1
 // overflowing, g_3 subnormal) and for infinities and NaN, every term is added alone.
@@ -130,10 +130,13 @@ void ExactSum::addAll(const double* x, std::size_t count) {
   for (std::size_t start = 0; start < count; start += kBatch) {
     const std::size_t m = std::min(kBatch, count - start);
     const double* batch = x + start;
+    // The tail beyond the last whole eight goes through the same loops, padded with zeros
+    // (which split into zeros).
     const std::size_t whole = m - m % 8;
-    double largest = avx2 ? largestMagnitudeAvx2(batch, whole) : largestMagnitude(batch, whole);
-    for (std::size_t i = whole; i < m; ++i) largest = std::max(largest, std::fabs(batch[i]));
-    const unsigned top = biasedExponent(largest);
+    double tail[8] = {};
+    std::copy(batch + whole, batch + m, tail);
+    auto largestOf = avx2 ? largestMagnitudeAvx2 : largestMagnitude;
+    const unsigned top = biasedExponent(std::max(largestOf(batch, whole), largestOf(tail, 8)));
     if (top < 200 || top > 2000) {  // tiny, huge or not finite: one by one
       for (std::size_t i = 0; i < m; ++i) add(batch[i]);
       continue;
@@ -141,18 +144,9 @@ void ExactSum::addAll(const double* x, std::size_t count) {
     const int t = int(top) - 1023;
     const double c1 = threeHalves(t + 13), c2 = threeHalves(t - 27), c3 = threeHalves(t - 67);
     Lanes part[3] = {};
-    bool leftOver = avx2 ? splitFourAvx2(batch, whole, c1, c2, c3, part)
-                         : splitFour(batch, whole, c1, c2, c3, part);
-    for (std::size_t i = whole; i < m; ++i) {  // the tail, in lane 0
-      double r = batch[i];
-      for (int j = 0; j < 3; ++j) {
-        const double c = j == 0 ? c1 : j == 1 ? c2 : c3;
-        const double q = (c + r) - c;
-        r -= q;
-        part[j][0] += q;
-      }
-      leftOver |= r != 0.0;
-    }
+    auto split = avx2 ? splitFourAvx2 : splitFour;
+    const bool body = split(batch, whole, c1, c2, c3, part);
+    const bool leftOver = split(tail, 8, c1, c2, c3, part) || body;
     if (leftOver) {
       for (std::size_t i = 0; i < m; ++i) {
         const double r = remainder(batch[i], c1, c2, c3);

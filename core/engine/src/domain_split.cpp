@@ -370,12 +370,15 @@ void mergeInto(RecordBatch& all, const std::vector<std::vector<std::byte>>& rece
   }
 }
 
-/// The ranks that hold a particle at x after a rebuild: its owner and those it is a ghost of,
-/// ascending.
-std::vector<int> holders(const DomainMap& domains, const Vec3& x, double halo) {
-  std::vector<int> out = domains.ghostRanks(x, halo);
-  out.insert(std::upper_bound(out.begin(), out.end(), domains.owner(x)), domains.owner(x));
-  return out;
+/// Appends to `out` the ranks that hold a particle at x after a rebuild: its owner and those it
+/// is a ghost of, ascending.
+void appendHolders(const DomainMap& domains, const Vec3& x, double halo, std::vector<int>& out) {
+  const int owner = domains.owner(x);
+  const std::vector<int> ghosts = domains.ghostRanks(x, halo);  // mostly empty: not allocated
+  const auto at = std::upper_bound(ghosts.begin(), ghosts.end(), owner);
+  out.insert(out.end(), ghosts.begin(), at);
+  out.push_back(owner);
+  out.insert(out.end(), at, ghosts.end());
 }
 
 }  // namespace
@@ -403,8 +406,10 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   const DomainMap& map = *s.split.domains;
   const int me = s.ranks->rank();
   std::vector<std::uint8_t> kept(p.size(), 0);
+  std::vector<int> near;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const std::vector<int> near = holders(map, p.position[i], halo);
+    near.clear();
+    appendHolders(map, p.position[i], halo, near);
     kept[i] = std::binary_search(near.begin(), near.end(), me) ? 1 : 0;
   }
   RecordBatch batch;
@@ -430,27 +435,20 @@ void redistribute(SimulationState& s) {
     }
     if (std::shared_ptr<const DomainMap> moved = s.split.domains->rebalanced(owned, *s.ranks)) {
       s.split.domains = std::move(moved);
-      ++s.split.rebalances;
-      s.split.rebalanceAbove = 0.0;  // set from the imbalance this move leaves (below)
+      s.split.justMoved = true;  // the bar is set from the imbalance this move leaves
     }
   }
   const DomainMap& domains = *s.split.domains;
   const double halo = s.split.halo;
   const Particles& p = s.particles;
   const std::size_t n = p.size();
-  // Per particle held, the ranks that will hold it (holders), ascending, in one array:
+  // Per particle held, the ranks that will hold it (appendHolders), in one array:
   // near[nearStart[i], nearStart[i + 1]) (one allocation, not one a particle).
   std::vector<int> near;
   std::vector<std::uint32_t> nearStart(n + 1, 0);
   near.reserve(n + n / 8);
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec3& x = p.position[i];
-    const int owner = domains.owner(x);
-    const std::vector<int> ghosts = domains.ghostRanks(x, halo);  // mostly empty: not allocated
-    const auto at = std::upper_bound(ghosts.begin(), ghosts.end(), owner);
-    near.insert(near.end(), ghosts.begin(), at);
-    near.push_back(owner);
-    near.insert(near.end(), at, ghosts.end());
+    appendHolders(domains, p.position[i], halo, near);
     nearStart[i + 1] = static_cast<std::uint32_t>(near.size());
   }
   auto nearBegin = [&](std::size_t i) { return near.begin() + std::ptrdiff_t(nearStart[i]); };
@@ -527,11 +525,12 @@ void afterSplitRebuild(SimulationState& s) {
   s.split.pairs = mine[0];
   DomainSplit& split = s.split;
   const double mean = static_cast<double>(mine[1]) / s.ranks->size();
-  split.imbalance = mean > 0.0 ? largest / mean : 1.0;
+  const double imbalance = mean > 0.0 ? largest / mean : 1.0;
   // A bar a twentieth above what the last move left, and never below 1.10: no move while the
   // domains cannot do better (the cuts are shared planes), nor for a few particles' drift.
-  if (split.rebalanceAbove == 0.0) split.rebalanceAbove = std::max(1.10, 1.05 * split.imbalance);
-  split.rebalanceDue = split.imbalance > split.rebalanceAbove;
+  if (split.justMoved) split.rebalanceAbove = std::max(1.10, 1.05 * imbalance);
+  split.justMoved = false;
+  split.rebalanceDue = imbalance > split.rebalanceAbove;
 }
 
 // ---- 4. Ghosts ----------------------------------------------------------------------------

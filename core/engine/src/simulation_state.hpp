@@ -262,9 +262,8 @@ struct DomainSplit {
   /// times the mean at a rebuild, the next rebuild moves the domains first
   /// (DomainMap::rebalanced); the bar then stands a little above the imbalance that move left.
   bool rebalanceDue = false;
+  bool justMoved = false;  ///< the domains moved at this rebuild
   double rebalanceAbove = 1.10;
-  double imbalance = 1.0;        ///< at the last rebuild: the largest owned count / the mean
-  std::uint64_t rebalances = 0;  ///< the domains moved so far
 };
 
 struct SimulationState {

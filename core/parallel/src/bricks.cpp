@@ -133,10 +133,10 @@ std::shared_ptr<const DomainMap> Bricks::rebalanced(const std::vector<Vec3>& own
                                                     const Communicator& ranks) const {
   constexpr std::size_t kBins = 4096;
   std::vector<std::uint64_t> histogram(3 * kBins, 0);
-  auto binOf = [&](int a, double x) {
+  auto binOf = [&](int a, double x) {  // outside the box (or NaN): the nearest end bin
     const double t = (x - lo_[a]) / (hi_[a] - lo_[a]) * static_cast<double>(kBins);
-    return t <= 0.0 ? std::size_t{0}
-                    : std::min(kBins - 1, static_cast<std::size_t>(std::isfinite(t) ? t : 0.0));
+    if (!(t > 0.0)) return std::size_t{0};
+    return t >= static_cast<double>(kBins) ? kBins - 1 : static_cast<std::size_t>(t);
   };
   for (const Vec3& x : owned) {
     for (int a = 0; a < 3; ++a) {
