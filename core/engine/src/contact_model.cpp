@@ -102,6 +102,20 @@ RuleProblem rulesOf(TermList<Terms...>, const Material& m) {
 }
 
 template <class... Terms>
+std::vector<IdleParameter> idleOf(TermList<Terms...>, const Material& m) {
+  std::vector<IdleParameter> found;
+  auto collect = [&]<class T>() {
+    if constexpr (requires { T::idle(m); }) {
+      for (const IdleParameter& p : T::idle(m)) {
+        if (!p.key.empty()) found.push_back(p);
+      }
+    }
+  };
+  (collect.template operator()<Terms>(), ...);
+  return found;
+}
+
+template <class... Terms>
 std::vector<TermSpec> termsOf(TermList<Terms...>) {
   return {termSpecOf<Terms>()...};
 }
@@ -249,6 +263,10 @@ void validateMaterial(const Material& material, std::span<const ParameterSpec> t
 
 RuleProblem materialRuleProblem(const Material& material) {
   return rulesOf(ContactModel{}, material);
+}
+
+std::vector<IdleParameter> idleParameters(const Material& material) {
+  return idleOf(ContactModel{}, material);
 }
 
 std::vector<std::pair<std::string, double>> materialValues(const Material& material,

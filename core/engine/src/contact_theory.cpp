@@ -84,30 +84,56 @@ double normalDuration(const Material& mat, double reducedRadius, double reducedM
 /// the step must resolve that half-period as it does the normal one.
 struct Duration {
   double seconds;
-  bool tangential;  ///< the constant tangential spring's half-period, not the normal contact
+  bool tangential = false;  ///< the constant tangential spring's half-period
+  bool rolling = false;     ///< the rolling spring's half-period
 };
+
+/// The normal stiffness dF_n/dh of the contact at its largest overlap [N/m]: k_n R_ij for
+/// Hooke; (3/2) K √h_max for Hertz (K = k_n √R_ij), h_max from the impact at `impactSpeed`.
+double normalStiffness(const Material& mat, double reducedRadius, double reducedMass,
+                       double impactSpeed) {
+  const double kn = mat.normalCoefficient();
+  if (mat.normalLaw == NormalLaw::Hooke) return kn * reducedRadius;
+  const double hertz = kn * std::sqrt(reducedRadius);
+  const double peak = hertzUndampedImpact(hertz, reducedMass, impactSpeed).peakOverlap;
+  return 1.5 * hertz * std::sqrt(peak);
+}
+
+/// `rotationalInertia` is the relative rotation's inertia about the contact point [kg m²]: the
+/// rolling spring's torque −k_r θ turns it at √(k_r/I_r).
 Duration contactDuration(const Material& mat, double reducedRadius, double reducedMass,
-                         double impactSpeed) {
-  const double normal = normalDuration(mat, reducedRadius, reducedMass, impactSpeed);
-  if (!mat.hasFriction() || mat.tangentialLaw != TangentialLaw::Constant) return {normal, false};
-  const double tangential =
-      std::numbers::pi *
-      std::sqrt(reducedMass / (kTangentialRatePerContact * mat.tangentialStiffness));
-  return tangential < normal ? Duration{tangential, true} : Duration{normal, false};
+                         double rotationalInertia, double impactSpeed) {
+  Duration d{normalDuration(mat, reducedRadius, reducedMass, impactSpeed)};
+  if (mat.hasFriction() && mat.tangentialLaw == TangentialLaw::Constant) {
+    const double tangential =
+        std::numbers::pi *
+        std::sqrt(reducedMass / (kTangentialRatePerContact * mat.tangentialStiffness));
+    if (tangential < d.seconds) d = {tangential, true, false};
+  }
+  if (RollingResistance::active(mat)) {
+    const double kr = RollingResistance::constants(mat).stiffness *
+                      normalStiffness(mat, reducedRadius, reducedMass, impactSpeed) *
+                      reducedRadius * reducedRadius;
+    const double rolling = std::numbers::pi * std::sqrt(rotationalInertia / kr);
+    if (rolling < d.seconds) d = {rolling, false, true};
+  }
+  return d;
 }
 
 }  // namespace
 
 ContactScale stiffestContact(const Material& mat, double r, double impactSpeed) {
   const double m = mat.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  const Duration wall = contactDuration(mat, r, m, impactSpeed);
-  const Duration pair = contactDuration(mat, 0.5 * r, 0.5 * m, impactSpeed);
+  const double aboutContact = 1.4 * m * r * r;  // I + m r² = (7/5) m r², as the rolling term
+  const Duration wall = contactDuration(mat, r, m, aboutContact, impactSpeed);
+  const Duration pair = contactDuration(mat, 0.5 * r, 0.5 * m, 0.5 * aboutContact, impactSpeed);
   ContactScale s;
   s.radius = r;
   s.againstWall = wall.seconds < pair.seconds;
   const Duration& shorter = s.againstWall ? wall : pair;
   s.duration = shorter.seconds;
   s.tangentialSpring = shorter.tangential;
+  s.rollingSpring = shorter.rolling;
   return s;
 }
 

@@ -7,8 +7,10 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <numbers>
 #include <vector>
 
+#include "granular/contact_theory.hpp"
 #include "granular/network_frequency.hpp"
 #include "integrators.hpp"
 #include "network_bound.hpp"
@@ -114,6 +116,45 @@ NetworkStep networkStableStep(const SimulationState& s, double lookahead) {
 
 NetworkStep networkStableStep(const Simulation& sim, double lookahead) {
   return networkStableStep(SimulationAccess::state(sim), lookahead);
+}
+
+NetworkStep denseBedStep(const SimulationConfig& config, double smallestRadius) {
+  const double r = smallestRadius;
+  const Material& material = config.material;
+  // Touching at the overlap the stiffest contact reaches: Hooke's stiffness does not depend on
+  // it; Hertz's at the peak of a pair's impact at the expected speed (as the binary limit).
+  double overlap = 1e-6 * r;
+  if (material.normalLaw == NormalLaw::Hertz) {
+    const double mass = material.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double hertz = material.normalCoefficient() * std::sqrt(0.5 * r);
+    overlap =
+        std::max(overlap, hertzUndampedImpact(hertz, 0.5 * mass, config.impactSpeed).peakOverlap);
+  }
+  const double spacing = 2.0 * r - overlap;      // nearest neighbours' distance
+  const double cube = spacing * std::sqrt(2.0);  // the cubic cell's edge
+  const Vec3 sites[4] = {Vec3(0, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0.5, 0, 0.5), Vec3(0, 0.5, 0.5)};
+  constexpr int kCells = 3;  // 3 × 3 × 3 cells of 4 sites: 108 spheres, a third of them inside
+  Particles p;
+  for (int k = 0; k < kCells; ++k) {
+    for (int j = 0; j < kCells; ++j) {
+      for (int i = 0; i < kCells; ++i) {
+        for (const Vec3& site : sites) {
+          const Vec3 centre = cube * (Vec3(i, j, k) + site) + Vec3(r, r, r - overlap);
+          p.add(centre, r, material.density);
+        }
+      }
+    }
+  }
+  Wall floor;
+  floor.name = "bottom";
+  SimulationConfig model = config;
+  model.gravity = Vec3::Zero();
+  model.step = StepControl{};
+  model.timeStep = 1e-3 * maxStableStep(stiffestContact(material, r, config.impactSpeed),
+                                        config.integrator);  // any step the model accepts
+  model.threads = 1;
+  const Simulation bed(std::move(p), {floor}, model);
+  return networkStableStep(bed, 0.0);
 }
 
 }  // namespace granular

@@ -147,8 +147,8 @@ void requireAllowedStep(const SimulationState& s, double dt, Integrator integrat
     if (c.contacts == 0) return;
   }
   if (!(dt <= c.networkStep)) {
-    throw ConfigError(aboveNetworkStep(dt, c, integrator) + "; use at most " + str(c.networkStep) +
-                      " s, or time_step = \"auto\"");
+    throw TimeStepError(aboveNetworkStep(dt, c, integrator) + "; use at most " +
+                        str(c.networkStep) + " s, or time_step = \"auto\"");
   }
 }
 
@@ -288,18 +288,24 @@ void requireStableStep(double dt, const ContactScale& scale, Integrator integrat
     const bool gear = integrator == Integrator::Gear5;
     std::ostringstream msg;
     msg << "time step " << dt << " s is above the stable limit " << limit << " s of "
-        << (gear ? "gear5" : "velocity Verlet") << " = 1/" << (gear ? 50 : 10)
-        << (scale.tangentialSpring
-                ? " of the half-period " + str(scale.duration) +
-                      " s of a sticking contact's constant tangential spring (the stiffest: radius "
-                : " of the contact duration " + str(scale.duration) +
-                      " s of the stiffest contact (radius ")
-        << scale.radius << " m "
+        << (gear ? "gear5" : "velocity Verlet") << " = 1/" << (gear ? 50 : 10);
+    if (scale.tangentialSpring) {
+      msg << " of the half-period " << str(scale.duration)
+          << " s of a sticking contact's constant tangential spring (the stiffest: radius ";
+    } else if (scale.rollingSpring) {
+      msg << " of the half-period " << str(scale.duration)
+          << " s of a contact's rolling spring (k_r = β_r μ_r² k_n R_ij², shorter than the "
+             "normal contact's duration; the stiffest: radius ";
+    } else {
+      msg << " of the contact duration " << str(scale.duration)
+          << " s of the stiffest contact (radius ";
+    }
+    msg << scale.radius << " m "
         << (scale.againstWall ? "against a wall" : "against an equal particle") << "); use at most "
         << limit << " s"
         << (gear ? " (Gear gains energy in a damped bed above it), or velocity Verlet up to 1/10"
                  : " (1/50 to 1/20 of the duration is usual)");
-    throw ConfigError(msg.str());
+    throw TimeStepError(msg.str());
   }
 }
 

@@ -278,12 +278,12 @@ Simulation buildSimulation(const Scene& scene) {
   config.material.density = built.density;
   try {
     return Simulation(std::move(built.particles), buildWalls(scene.box), config);
-  } catch (const ConfigError& e) {
-    // A packed start's step, refused against its contact network: name the key.
-    const std::string what = e.what();
-    if (what.rfind("the time step ", 0) != 0) throw;
+  } catch (const TimeStepError& e) {
+    // A packed start's step, refused against its contact network: name the file, line and key.
+    const auto at = scene.keyLocations.find("simulation.time_step");
+    if (at != scene.keyLocations.end()) throw TimeStepError(at->second + e.what());
     const std::string file = scene.sourceFile.empty() ? "the scene" : scene.sourceFile.string();
-    throw ConfigError(file + ": simulation.time_step: " + what);
+    throw TimeStepError(file + ": simulation.time_step: " + e.what());
   }
 }
 

@@ -136,8 +136,11 @@ std::uint64_t outputHash(const OutputSpec& o) {
 }  // namespace
 
 SceneFingerprint fingerprintScene(const Scene& scene) {
-  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output] = scene;
-  // The scene file's name is not part of the run: only where messages point.
+  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output, keyLocations] =
+      scene;
+  // The scene file's name and the keys' lines are not part of the run: only where messages
+  // point.
+  static_cast<void>(keyLocations);
   const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
   const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads,
                exactSums] = simulation;

@@ -81,6 +81,7 @@
 
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
+#include "granular/network_step.hpp"
 #include "granular/scene.hpp"
 #include "grid_sampling.hpp"
 #include "material_reader.hpp"
@@ -178,6 +179,11 @@ Material readMaterial(const TomlTableReader& root, const std::string& file,
   }
   const RuleProblem rule = materialRuleProblem(m);  // here, so that the message has a line
   if (!rule.key.empty()) r.fail(rule.key, std::string(rule.requirement));
+  // A key the other values leave without effect is refused, as [simulation] refuses
+  // step_safety beside a fixed step: the user believes it acts.
+  for (const IdleParameter& idle : idleParameters(m)) {
+    if (r.has(idle.key)) r.fail(idle.key, std::string(idle.reason));
+  }
   return m;
 }
 
@@ -186,8 +192,8 @@ namespace {
 // 2. Simulation -----------------------------------------------------------------------------------
 
 /// Reads [simulation]; returns true when impact_speed was given explicitly.
-bool readSimulation(const TomlTableReader& root, const std::string& file,
-                    SimulationConfig& config) {
+bool readSimulation(const TomlTableReader& root, const std::string& file, Scene& scene) {
+  SimulationConfig& config = scene.simulation;
   const toml::table* table = root.subTable("simulation");
   if (!table) root.failMissing("simulation");
   const TomlTableReader r(*table, "simulation", file);
@@ -203,6 +209,7 @@ bool readSimulation(const TomlTableReader& root, const std::string& file,
   } else {
     config.timeStep = r.number("time_step", Range::above(0));
   }
+  scene.keyLocations["simulation.time_step"] = r.messagePrefix("time_step");
   config.step.safety = r.number("step_safety", config.step.safety, Range::aboveUpTo(0, 1));
   config.step.contactResolution =
       r.number("contact_resolution", config.step.contactResolution, Range::closed(1, 1e6));
@@ -534,6 +541,33 @@ TomlTableReader tableOrRoot(const TomlTableReader& root, std::string_view key,
   return root;
 }
 
+/// x to 4 significant digits, "%.4g", rounded down when `down` (a limit a user may copy).
+std::string fourDigits(double x, bool down = false) {
+  if (down && x > 0.0) {
+    const double unit = std::pow(10.0, std::floor(std::log10(x)) - 3.0);
+    x = std::floor(x / unit) * unit;
+  }
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", x);
+  return buffer;
+}
+
+/// Why a fixed step is above the one the network of a dense bed allows (denseBedStep).
+std::string denseBedRefusal(const SimulationConfig& config, const NetworkStep& bed, double radius) {
+  const bool gear = config.integrator == Integrator::Gear5;
+  return "time step " + formatNumber(config.timeStep) +
+         " s is above the step the contact network of a dense bed allows with rolling "
+         "resistance, " +
+         fourDigits(bed.dt) + " s: " + (gear ? "gear5" : "velocity Verlet") +
+         " is stable for ω Δt <= " + fourDigits(bed.dt * bed.omegaMax) +
+         " at the network's damping ratio " + fourDigits(bed.zeta) +
+         " (the rolling dashpots turn the spheres' own rotation), and its highest frequency is "
+         "at most " +
+         fourDigits(bed.omegaMax) + " rad/s (a face-centred cubic block of spheres of radius " +
+         fourDigits(radius) + " m, 12 contacts each, on the floor); use at most " +
+         fourDigits(bed.dt, true) + " s, or time_step = \"auto\"";
+}
+
 /// The engine's stability rule (Simulation refuses the same step), checked with the density the
 /// builder will use, so that the message can name the key. Also refuses a total_mass that would
 /// give a density beyond the declared bound, and a damping that over-damps the stiffest contact.
@@ -559,6 +593,18 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, Scene& 
     scene.simulation.timeStep = scale.duration / scene.simulation.step.contactResolution;
     return;
   }
+  const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
+  if (RollingResistance::active(material)) {
+    // The rolling dashpots act on the spheres' own rotation, whose inertia is small: their rates
+    // shrink Gear's interval, which the binary contact's duration does not see. The step is
+    // judged on the network of a dense bed of the smallest spheres instead.
+    SimulationConfig config = scene.simulation;
+    config.material = material;
+    const NetworkStep bed = denseBedStep(config, bound.smallestRadius);
+    if (!(scene.simulation.timeStep <= bed.dt)) {
+      simulation.fail("time_step", denseBedRefusal(scene.simulation, bed, bound.smallestRadius));
+    }
+  }
   for (const Generator& g : scene.generators) {
     if (std::holds_alternative<CsvGenerator>(g)) return;  // the engine checks the network
   }
@@ -571,7 +617,6 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, Scene& 
                                   " kg/m³, so " + e.what() +
                                   "; raise total_mass or lower simulation.time_step");
     }
-    const TomlTableReader simulation(*root.subTable("simulation"), "simulation", file);
     simulation.fail("time_step", e.what());
   }
   try {
@@ -629,7 +674,7 @@ Scene loadScene(const std::filesystem::path& file) {
   Scene scene;
   scene.sourceFile = file;
   scene.simulation.material = readMaterial(root, name);
-  const bool impactSpeedGiven = readSimulation(root, name, scene.simulation);
+  const bool impactSpeedGiven = readSimulation(root, name, scene);
   scene.box = readBox(root, name);
   MotionBound bound;
   scene.generators = readParticles(root, name, file.parent_path(), scene.box,

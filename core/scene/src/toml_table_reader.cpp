@@ -128,10 +128,14 @@ const toml::source_region& TomlTableReader::keyRegion(std::string_view key) cons
   return it != table_.end() ? it->first.source() : table_.source();
 }
 
-void TomlTableReader::fail(std::string_view key, const std::string& message) const {
+std::string TomlTableReader::messagePrefix(std::string_view key) const {
   const toml::node* node = table_.get(key);
   const std::string value = node ? " = " + describeValue(*node) : std::string();
-  failAt(keyRegion(key), keyPath(key) + value + ": " + message);
+  return locationPrefix(file_, keyRegion(key)) + keyPath(key) + value + ": ";
+}
+
+void TomlTableReader::fail(std::string_view key, const std::string& message) const {
+  throw SceneError(messagePrefix(key) + message);
 }
 
 void TomlTableReader::failMissing(std::string_view key) const {

@@ -77,6 +77,9 @@ class TomlTableReader {
   /// An array of tables ([[key]]), or nullptr when absent.
   const toml::array* tableArray(std::string_view key) const;
 
+  /// "file:line:col: path.key = value: ", what fail(key, ...) puts before its message: for a
+  /// refusal that comes after the file is read.
+  std::string messagePrefix(std::string_view key) const;
   /// Throws "file:line:col: path.key = value: message" at the key's position.
   [[noreturn]] void fail(std::string_view key, const std::string& message) const;
   /// Throws "file:line:col: path.key: required key is missing" at the table's position.

@@ -11,6 +11,14 @@ class ConfigError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A time step the engine refuses as unstable: above the stiffest contact's limit, or above the
+/// step the contact network allows. A scene's builder names the key (simulation.time_step) and
+/// where it is written.
+class TimeStepError : public ConfigError {
+ public:
+  using ConfigError::ConfigError;
+};
+
 /// A scene file that cannot be read or does not validate. The message names the file, the key,
 /// the value and the allowed range ("scene.toml:12:1: material.friction = -0.3: must be >= 0").
 class SceneError : public std::runtime_error {

@@ -174,6 +174,10 @@ const ParameterSpec* findParameter(std::string_view key,
 /// needs its k_t), or an empty key when every rule holds.
 RuleProblem materialRuleProblem(const Material& material);
 
+/// The parameters this material's other values leave without effect (the terms' `idle`), each
+/// with the reason; a scene file that sets one is refused (the loader).
+std::vector<IdleParameter> idleParameters(const Material& material);
+
 /// The one validation of a material: every parameter accepted by its declaration, else
 /// ConfigError "material.KEY = VALUE UNIT: must be ..."; then the terms' rules, else
 /// ConfigError "material.KEY = VALUE: needs ...".

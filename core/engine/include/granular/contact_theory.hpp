@@ -39,7 +39,9 @@ ImpactPrediction hertzUndampedImpact(double hertzConstant, double reducedMass,
 /// is shorter). For Hertz, whose duration depends on the impact speed, `impactSpeed` [m/s] is the
 /// largest approach speed expected; it is ignored for Hooke. With friction and the constant
 /// tangential law, a contact's duration is the shorter of the normal force's and the tangential
-/// spring's half-period π √(m_ij/(3.5 k_t)).
+/// spring's half-period π √(m_ij/(3.5 k_t)); with rolling resistance, also of the rolling
+/// spring's half-period π √(I_r/k_r), k_r = β_r μ_r² k_n R_ij² and I_r the relative rotation's
+/// inertia about the contact point ((7/5) m R² a sphere; infinite for a wall).
 struct ContactScale {
   double duration = 0;       ///< force duration of the stiffest contact [s]
   double radius = 0;         ///< radius of the particle in that contact [m]
@@ -47,6 +49,9 @@ struct ContactScale {
   /// The duration is a constant tangential spring's half-period (material.tangential_law =
   /// "constant"), shorter than the normal contact's.
   bool tangentialSpring = false;
+  /// The duration is the rolling spring's half-period (material.rolling_friction > 0 with
+  /// β_r μ_r² above about 1.6), shorter than the normal contact's.
+  bool rollingSpring = false;
 };
 ContactScale stiffestContact(const Material& material, double smallestRadius, double impactSpeed);
 

@@ -39,4 +39,14 @@ struct NetworkStep {
 /// With `lookahead` [s]: contacts about to form count too (networkFrequencyBound).
 NetworkStep networkStableStep(const Simulation& sim, double lookahead = 0.0);
 
+/// The step the contact network of a dense bed of the scene's smallest spheres allows, for a
+/// scene that starts without contacts: a face-centred cubic block of 108 spheres of radius
+/// `smallestRadius` (the densest packing: 12 contacts a sphere, more than any random bed's 6 or
+/// so) touching each other and a floor, at rest, with `config`'s material, under Hertz's law at
+/// the overlap of an impact at config.impactSpeed. What the stiffest binary contact's duration
+/// does not see, the rates of the rolling dashpots on the spheres' own rotational inertia, which
+/// shrink Gear's interval, it does: the scene loader judges a fixed step of a scene with rolling
+/// resistance by it. The network's step [s] and what sets it.
+NetworkStep denseBedStep(const SimulationConfig& config, double smallestRadius);
+
 }  // namespace granular

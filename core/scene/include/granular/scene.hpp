@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <variant>
@@ -105,6 +106,11 @@ struct Scene {
   std::optional<double> totalMass;
   std::vector<StageSpec> stages;
   OutputSpec output;
+  /// Where a value that the builder or the engine may still refuse is written, by dotted key:
+  /// "scene.toml:16:1: simulation.time_step = 0.01: " (a packed start's step, refused against
+  /// its contact network), so that the refusal names the file, the line and the key. Empty for
+  /// a scene built in C++.
+  std::map<std::string, std::string> keyLocations;
 };
 
 /// A stage's name as output file names carry it: every character outside [A-Za-z0-9_-] becomes

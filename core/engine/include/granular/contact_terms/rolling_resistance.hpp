@@ -14,6 +14,7 @@
 ///   rotation's inertia about the contact point; a wall's term is zero).
 /// The term acts only where rolling_friction > 0 (optional: other scenes run a build without it)
 /// and needs friction (a sphere that cannot stick to the plane slides rather than rolls).
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <tuple>
@@ -59,6 +60,14 @@ struct RollingResistance {
     }
     return {};
   }
+  /// Without rolling friction the term is off, and its stiffness and damping with it.
+  static std::array<IdleParameter, 2> idle(const Parameters& p) {
+    if (p.rollingFriction > 0.0) return {};
+    constexpr std::string_view why =
+        "applies with rolling_friction > 0 only (rolling_friction = 0 switches rolling "
+        "resistance off); remove it, or set rolling_friction";
+    return {IdleParameter{"rolling_stiffness", why}, IdleParameter{"rolling_damping", why}};
+  }
   /// A scene without rolling friction runs the law's build without this term.
   static bool active(const Parameters& p) { return p.rollingFriction > 0.0; }
 
@@ -82,8 +91,10 @@ struct RollingResistance {
   /// The torque is a pure couple: +q on i, −q on the other body (the force pass adds it).
   static constexpr bool pureTorque = true;
   static constexpr std::string_view stableStep =
-      "√(k_r/I_r) <= 1.3 √(k_n/m) with β_r μ_r² <= 2.25 (a wall contact; 0.63 × for equal "
-      "spheres): covered by the normal law's duration";
+      "the half-period π √(I_r/k_r) joins the durations the step must resolve (shorter than the "
+      "normal contact's where β_r μ_r² is above about 1.6); its dashpot's rate on a sphere's own "
+      "rotation shrinks Gear's interval, so a fixed step of a scene that starts without "
+      "contacts is judged at load on the network of a dense bed (denseBedStep)";
 
   struct Constants {
     double friction;   ///< μ_r

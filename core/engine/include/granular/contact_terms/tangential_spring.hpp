@@ -6,6 +6,7 @@
 /// into the current tangent plane keeping its length (the contact frame turns with the particles;
 /// the stretch does not grow or shrink by it); while sliding it is reset so that the spring alone
 /// carries the cap.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <tuple>
@@ -59,6 +60,15 @@ struct TangentialSpring {
       return {"tangential_law", "needs tangential_stiffness > 0 N/m, the constant law's k_t"};
     }
     return {};
+  }
+  /// Mindlin's k_t comes from G and the overlap: a tangential_stiffness beside it is a setting
+  /// the run would silently ignore.
+  static std::array<IdleParameter, 1> idle(const Parameters& p) {
+    if (p.tangentialLaw == TangentialLaw::Constant) return {};
+    return {IdleParameter{"tangential_stiffness",
+                          "applies to tangential_law = \"constant\" only (Mindlin's k_t follows "
+                          "from shear_modulus and the overlap); remove it, or set "
+                          "tangential_law = \"constant\""}};
   }
   /// Per contact: the stretch ξ [m] (three slots, in the current tangent plane) and k_t at the
   /// previous step [N/m], for the stiffness-work term.

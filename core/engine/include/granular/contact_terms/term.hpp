@@ -14,6 +14,8 @@
 ///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
 ///   - optionally `rule`: a rule between its parameters that no single range states, returning
 ///     a RuleProblem (validateMaterial and the scene loader apply it);
+///   - optionally `idle`: which of its parameters the others leave without effect (the
+///     constant law's k_t under Mindlin's), as IdleParameters; a scene that sets one is refused;
 ///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them);
 ///   - optionally `active(const Parameters&)`: the term is optional and acts only where this
 ///     says (the law is built with and without it; a scene without it pays nothing), `Constants`
@@ -88,6 +90,13 @@ struct FlagParameter {
 struct RuleProblem {
   std::string_view key;
   std::string_view requirement;
+};
+
+/// A parameter that the values of the others leave without effect, and why ("applies to
+/// tangential_law = \"constant\" only"); an empty key where there is none.
+struct IdleParameter {
+  std::string_view key;
+  std::string_view reason;
 };
 
 /// What an energy account of the ledger is (EnergyBalance::total adds them with these signs):
