@@ -88,12 +88,22 @@ TEST_F(ParticleCsvFile, SpinInAFrictionlessSceneIsRefusedAndZeroSpinIsNot) {
             1u);
 }
 
-TEST_F(ParticleCsvFile, TheHashIsOfTheBytesReadAndAByteOrderMarkIsNotAName) {
+TEST_F(ParticleCsvFile, TheHashIsOfTheValuesReadAndAByteOrderMarkIsNotAName) {
   const fs::path file = write("bom.csv", "\xEF\xBB\xBFx,y,z,r\n0.5,0.5,0.5,0.03\n");
   const ParticleCsv csv = readParticleCsv(file);
   ASSERT_EQ(csv.rows.size(), 1u);
   EXPECT_EQ(csv.rows[0].position, Vec3(0.5, 0.5, 0.5));
-  EXPECT_EQ(csv.contentHash, fingerprintFile(file));
+  // The same values in another spelling, line ends and column order: the same hash.
+  const ParticleCsv same = readParticleCsv(
+      write("same.csv", "# again\r\nr,z,y,x,vx,vy,vz\r\n3e-2,0.50,.5,0.5,0,0,0\r\n"));
+  EXPECT_EQ(same.contentHash, csv.contentHash);
+  // Another value, another hash; and the rows' order counts (it numbers the particles).
+  EXPECT_NE(readParticleCsv(write("moved.csv", "x,y,z,r\n0.5,0.5,0.51,0.03\n")).contentHash,
+            csv.contentHash);
+  const std::string two = "x,y,z,r\n0.2,0.5,0.5,0.03\n0.5,0.5,0.5,0.04\n";
+  const std::string swapped = "x,y,z,r\n0.5,0.5,0.5,0.04\n0.2,0.5,0.5,0.03\n";
+  EXPECT_NE(readParticleCsv(write("two.csv", two)).contentHash,
+            readParticleCsv(write("swapped.csv", swapped)).contentHash);
 }
 
 TEST_F(ParticleCsvFile, AFileChangedBetweenLoadingAndBuildingIsRefused) {

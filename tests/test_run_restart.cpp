@@ -290,6 +290,54 @@ TEST(RunRestart, AParticleFileEditedAfterACheckpointIsRefusedNamingIt) {
 // A batch scheduler's SIGTERM (and Ctrl-C's SIGINT) before its SIGKILL: the run finishes its
 // step, writes a checkpoint even though periodic ones are off, says how to resume, exits with
 // 128 + the signal; resumed, it ends bit for bit like a run never interrupted.
+TEST(RunRestart, AParticleFileRewrittenWithTheSameValuesResumes) {
+  // A spreadsheet's save of the same particles: CRLF line ends, the columns in another order,
+  // 0.100 for 0.1, a comment. The values are the run's, so --resume continues it, and ends where
+  // an uninterrupted run ends.
+  const fs::path dir = freshDir("csv_same_values");
+  fs::create_directories(dir);
+  std::ostringstream plain, saved;
+  plain << "x,y,z,r\n";
+  saved << "# saved again\r\nr,z,x,y\r\n";
+  for (int k = 0; k < 64; ++k) {
+    const int x = 1 + k % 4, y = 1 + (k / 4) % 4, z = 1 + k / 16;
+    plain << "0." << x << ",0." << y << ",0." << z << ",0.03\n";
+    saved << "0.030,0." << z << "00,0." << x << "0,0." << y << "\r\n";
+  }
+  const std::string scene =
+      "[material]\nfriction = 0.3\nnormal_damping = 200.0\n"
+      "[simulation]\ntime_step = 1.2e-4\n"
+      "[box]\nmin = [0, 0, 0]\nmax = [0.6, 0.6, 2]\n"
+      "[[particles]]\ntype = \"csv\"\nfile = \"particles.csv\"\n"
+      "[[stages]]\nname = \"first\"\nmax_time = 0.6\n"
+      "[[stages]]\nname = \"second\"\nmax_time = 0.1\n"
+      "[output]\ninterval = 0.002\n";
+  std::ofstream(dir / "scene.toml") << scene;
+  std::ofstream(dir / "particles.csv", std::ios::binary) << plain.str();
+  const fs::path reference = dir / "reference";
+  Child whole(reference, {"--checkpoint-every", "0"}, {}, dir / "scene.toml");
+  ASSERT_TRUE(whole.started());
+  ASSERT_EQ(whole.wait(), 0) << whole.stderrText();
+
+  // Stopped mid-run by SIGTERM (which writes a checkpoint), the file saved again.
+  const fs::path out = dir / "out";
+  Child first(out, {"--checkpoint-every", "0"}, {}, dir / "scene.toml");
+  ASSERT_TRUE(first.started());
+  const fs::path series = out / "timeseries.csv";
+  while (first.running() && (!fs::exists(series) || fs::file_size(series) < 4000)) {
+    std::this_thread::sleep_for(2ms);
+  }
+  ASSERT_TRUE(first.running()) << "the run ended before the signal; make the scene longer";
+  first.signal(SIGTERM);
+  ASSERT_EQ(first.wait(), 128 + SIGTERM) << first.stderrText();
+  std::ofstream(dir / "particles.csv", std::ios::binary | std::ios::trunc) << saved.str();
+  Child resumed(out, {"--resume", "--checkpoint-every", "0"}, {}, dir / "scene.toml");
+  ASSERT_TRUE(resumed.started());
+  ASSERT_EQ(resumed.wait(), 0) << resumed.stderrText();
+  EXPECT_EQ(slurp(out / "final_state.csv"), slurp(reference / "final_state.csv"));
+  EXPECT_EQ(slurp(out / "timeseries.csv"), slurp(reference / "timeseries.csv"));
+}
+
 TEST(RunRestart, SigtermAndSigintWriteACheckpointSayHowToResumeAndExit128PlusTheSignal) {
   const fs::path reference = freshDir("signal_reference");
   Child whole(reference, {"--checkpoint-every", "0"});

@@ -112,9 +112,18 @@ TEST_F(SceneFingerprintTest, CommentsLayoutAndKeyOrderChangeNothing) {
     EXPECT_EQ(same.parts[k].key, original.parts[k].key);
     EXPECT_EQ(same.parts[k].hash, original.parts[k].hash) << same.parts[k].key;
   }
-  // The particle file counts by its bytes (the issue asks for them): a comment added to it
-  // changes its part, and only that one.
-  write("particles.csv", "# a comment\n" + gridCsv());
+  // The particle file counts by its values: saved again with a comment, CRLF line ends, the
+  // columns in another order and 0.30 for 0.3, it is the same; one particle moved changes its
+  // part, and only that one.
+  std::string saved = "# saved again\r\nr,x,y,z\r\n";
+  for (int k = 0; k < 64; ++k) {
+    saved += "0.030," + std::to_string(0.1 + 0.1 * (k % 4)) + "," +
+             std::to_string(0.1 + 0.1 * ((k / 4) % 4)) + "," +
+             std::to_string(0.1 + 0.1 * (k / 16)) + "\r\n";
+  }
+  write("particles.csv", saved);
+  EXPECT_EQ(fingerprintOf(kScene).combined(), original.combined());
+  write("particles.csv", gridCsv(64, true));
   const SceneFingerprint csvEdited = fingerprintOf(kScene);
   for (std::size_t k = 0; k < csvEdited.parts.size(); ++k) {
     const bool isTheFile = csvEdited.parts[k].key == "particles[0]";

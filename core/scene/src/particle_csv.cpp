@@ -197,6 +197,19 @@ CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t r
   return p;
 }
 
+/// The hash of the rows' values (ParticleCsv::contentHash).
+std::uint64_t valuesHash(const std::vector<CsvParticle>& rows) {
+  std::uint64_t h = kFnv1aOffset;
+  for (const CsvParticle& p : rows) {
+    const double values[] = {
+        p.position.x(),        p.position.y(),       p.position.z(), p.radius,
+        p.velocity.x(),        p.velocity.y(),       p.velocity.z(), p.angularVelocity.x(),
+        p.angularVelocity.y(), p.angularVelocity.z()};
+    h = fnv1a(reinterpret_cast<const char*>(values), sizeof values, h);
+  }
+  return h;
+}
+
 }  // namespace
 
 ParticleCsv readParticleCsv(const std::filesystem::path& path) {
@@ -214,7 +227,6 @@ ParticleCsv readParticleCsv(const std::filesystem::path& path) {
   }
 
   ParticleCsv file;
-  file.contentHash = fnv1a(bytes);
   std::string_view rest = bytes;
   // A UTF-8 byte-order mark (spreadsheets save one) is not part of the first column's name.
   if (rest.starts_with("\xEF\xBB\xBF")) rest.remove_prefix(3);
@@ -242,6 +254,7 @@ ParticleCsv readParticleCsv(const std::filesystem::path& path) {
     file.rows.back().line = lineNumber;
   }
   if (file.rows.empty()) throw ConfigError(path.string() + ": no particle rows");
+  file.contentHash = valuesHash(file.rows);
   return file;
 }
 

@@ -19,10 +19,13 @@ struct CsvParticle {
   std::size_t line = 0;  ///< line of the row in the file (from 1); 0 if not from a file
 };
 
-/// A particle file as read: its rows and the hash of its bytes.
+/// A particle file as read: its rows and the hash of what they give.
 struct ParticleCsv {
   std::vector<CsvParticle> rows;
-  /// FNV-1a of every byte of the file as read (fingerprintFile of the same file gives the same).
+  /// FNV-1a of the values the rows give, row by row (x, y, z, r, vx, vy, vz, wx, wy, wz, each
+  /// by its bits; an absent column gives zeros): the same particles written with other line
+  /// ends, columns in another order, "0.100" for "0.10" or comments added hash alike, so a run
+  /// resumes across such an edit; any changed value, row or row order does not.
   std::uint64_t contentHash = 0;
 };
 

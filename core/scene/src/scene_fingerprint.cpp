@@ -12,7 +12,10 @@
 #include <type_traits>
 
 #include "fnv1a.hpp"
+#include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
+#include "granular/error.hpp"
+#include "particle_csv.hpp"
 
 namespace granular {
 
@@ -102,11 +105,20 @@ std::uint64_t gridHash(const GridGenerator& g) {
   return c.hash();
 }
 
-/// The file's bytes, not its path: the same particles moved elsewhere are the same run.
+/// The particles' values, not the file's path or bytes: the same particles moved elsewhere or
+/// written another way are the same run (ParticleCsv::contentHash).
 std::uint64_t csvHash(const CsvGenerator& g) {
   const auto& [path, contentHash] = g;
   Canonical c;
-  c << std::string("csv") << (contentHash ? *contentHash : fingerprintFile(path));
+  if (contentHash) {
+    c << std::string("csv") << *contentHash;
+    return c.hash();
+  }
+  try {
+    c << std::string("csv") << readParticleCsv(path).contentHash;
+  } catch (const ConfigError& e) {
+    throw CheckpointError(e.what());
+  }
   return c.hash();
 }
 

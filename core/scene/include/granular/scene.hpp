@@ -44,8 +44,9 @@ struct GridGenerator {
 /// optionally vx, vy, vz and wx, wy, wz; any order), then one row per particle, in m, m/s, rad/s.
 struct CsvGenerator {
   std::filesystem::path path;  ///< resolved against the scene file's folder
-  /// FNV-1a of the file's bytes as loadScene read them; the builder refuses the file if it has
-  /// changed since. Empty for a scene built in C++ (the builder reads whatever is there).
+  /// FNV-1a of the values the file's rows gave when loadScene read it; the builder refuses the
+  /// file if they have changed since. Empty for a scene built in C++ (the builder reads whatever
+  /// is there).
   std::optional<std::uint64_t> contentHash;
 };
 

@@ -11,8 +11,8 @@ namespace granular {
 /// "particles[i]" for each entry, "total_mass", "stages[i]" for each stage, "output". A part's
 /// hash covers every value of it that the run uses, numbers by their bits: a comment, the layout
 /// or the order of keys in the TOML file change none, and neither does moving the files. A CSV
-/// entry's hash is of the file's bytes, as loadScene read them (CsvGenerator::contentHash), or
-/// read now for a scene built in C++. Throws CheckpointError if such a file cannot be read.
+/// entry's hash is of the values its rows give, as loadScene read them (CsvGenerator::contentHash),
+/// or read now for a scene built in C++. Throws CheckpointError if such a file cannot be read.
 SceneFingerprint fingerprintScene(const Scene& scene);
 
 }  // namespace granular
