@@ -662,15 +662,17 @@ std::string markdown(const std::vector<Row>& rows, const Plan& plan,
   return out.str();
 }
 
-/// Error (log) against wall time (log), one panel per case: colour = integrator, solid circles
-/// = restitution or Eq. (1), dashed squares = duration or Eq. (2); each point of the first
-/// quantity labelled with its t_c/Δt.
+/// Error against wall time on logarithmic axes (decades labelled 10⁻⁴), one panel per case:
+/// colour = integrator, solid circles = restitution or Eq. (1), dashed squares = duration or
+/// Eq. (2); each point of the first quantity labelled with its t_c/Δt. The panels fill their
+/// grid: one row of up to three (--quick has three cases), two columns for four.
 render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std::string>& cases,
                              const Plan& plan) {
   constexpr double kDpi = 150.0;
   const render::FigureStyle style = render::FigureStyle::forDpi(kDpi);
-  const int columns = 2, panelW = 1050, panelH = 780, titleH = 90;
-  const int panelRows = int(cases.size() + 1) / columns;
+  const int count = std::max(1, int(cases.size()));
+  const int columns = count <= 3 ? count : 2, panelW = 1050, panelH = 780, titleH = 90;
+  const int panelRows = (count + columns - 1) / columns;
   render::Canvas canvas(columns * panelW, titleH + panelRows * panelH);
   render::TextStyle title;
   title.size = style.px(style.titleFontSize * 1.15);
@@ -691,8 +693,9 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
               : c == "hertz_impact" ? "Hertz impact (undamped)"
               : c == "stage2_mu03"  ? "Stage 2, μ = 0.3: σ₃₃(t)"
                                     : "Stage 2, μ = 0: σ₃₃(t)";
-    p.xLabel = impact ? "log₁₀ (wall time per impact [s])" : "log₁₀ (wall time per run [s])";
-    p.yLabel = "log₁₀ (relative error)";
+    p.xLabel = impact ? "wall time per impact [s]" : "wall time per run [s]";
+    p.yLabel = "relative error";
+    p.xLog = p.yLog = true;
     const char* quantity[2] = {impact ? "restitution" : "Eq. (1)", impact ? "duration" : "Eq. (2)"};
     struct Label {
       double x, y;  ///< [data units]
@@ -721,8 +724,8 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
           const double e = q == 0 ? (impact ? r.restitutionError : r.eq1Error)
                                   : (impact ? r.durationError : r.eq2Error);
           if (!(e > 0)) continue;  // zero error (identical run) has no logarithm
-          s.x.push_back(std::log10(r.wallSeconds));
-          s.y.push_back(std::log10(e));
+          s.x.push_back(r.wallSeconds);
+          s.y.push_back(e);
           if (q == 0) {
             // A stage-2 error of several per cent is no truncation error: the bed blew up.
             const bool blewUp = !impact && r.worstError() > 0.05;
@@ -735,16 +738,19 @@ render::Image accuracyFigure(const std::vector<Row>& rows, const std::vector<std
         p.series.push_back(s);
       }
     }
-    // Room on the right for the labels of the slowest points.
+    // Room on the right for the labels of the slowest points (in decades: the axis is log).
     double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin;
     for (const render::Series& s : p.series) {
       for (double x : s.x) xMin = std::min(xMin, x), xMax = std::max(xMax, x);
     }
-    if (xMax > xMin)
-      p.xRange = render::AxisRange{xMin - 0.05 * (xMax - xMin), xMax + 0.12 * (xMax - xMin)};
+    if (xMax > xMin) {
+      const double decades = std::log10(xMax / xMin);
+      p.xRange = render::AxisRange{xMin * std::pow(10.0, -0.05 * decades),
+                                   xMax * std::pow(10.0, 0.12 * decades)};
+    }
     const double target = impact ? 1e-3 : 1e-2;
     render::ReferenceLine line;
-    line.y = std::log10(target);
+    line.y = target;
     line.label = percent(target);
     p.references.push_back(line);
     p.legend = render::LegendPosition::Auto;

@@ -9,7 +9,7 @@
 /// gives the balance error over the hold divided by the bed's potential energy scale m g h.
 ///
 /// Usage: granular_bench_gear_stability [--verlet-only] [--fractions K1,K2,...]
-///   (all of it: about 4 minutes on one core). --fractions sets the k of Δt = t_c/k (default
+///   (all of it: a few seconds on one core). --fractions sets the k of Δt = t_c/k (default
 ///   10,15,20,25,30,40,50); --verlet-only skips Gear5, to probe Verlet's limit at large steps.
 #include <cmath>
 #include <cstdio>

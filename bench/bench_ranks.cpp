@@ -34,6 +34,7 @@
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
 #include "proc_status.hpp"
+#include "scale_bed_settling.hpp"
 
 namespace {
 
@@ -207,20 +208,15 @@ int main(int argc, char** argv) {
   config.material.friction = 0.3;
   config.timeStep = 1e-4;
   config.threads = static_cast<int>(o.threads);
-  // A settling bed's network may ask for a step a little below 10⁻⁴ s (its heavy damping): the
-  // timing needs the step fixed, so the check only counts (as bench_scale, whose step is not
-  // checked).
-  config.step.onUnstable = granular::OnUnstable::Warn;
   auto bricks = [&](const granular::Particles& p) {
     auto b = std::make_shared<granular::Bricks>(world.size(), box.min, box.max);
     b->balance(p.position, 0.07);
     return b;
   };
   if (o.bed.empty() || !readBed(o, particles)) {
-    // Settled as bench_scale settles (near-critical normal damping), split, then gathered.
-    granular::SimulationConfig settleConfig = config;
-    settleConfig.material.normalDamping = 400.0;
-    granular::Simulation settle(particles, granular::buildWalls(box), settleConfig);
+    // Settled as bench_scale settles (scale_bed_settling.hpp), split, then gathered.
+    granular::Simulation settle(particles, granular::buildWalls(box),
+                                granular::bench::settlingConfig(config));
     settle.splitAmong(bricks(particles), counting);
     settle.run(static_cast<std::uint64_t>(o.settle));
     particles = settle.wholeState().particles();

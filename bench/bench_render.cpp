@@ -16,6 +16,7 @@
 ///   spheres         sphere count
 ///
 /// Run: build/release/bench/granular_bench_render [--benchmark_filter=...]; see bench/RESULTS.md.
+/// Exits 1 when a case failed (its error is in the table).
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -25,6 +26,7 @@
 #include <memory>
 #include <vector>
 
+#include "benchmark_failures.hpp"
 #include "granular/packings.hpp"
 #include "granular/render/gl_context.hpp"
 #include "granular/render/particle_figure.hpp"
@@ -104,7 +106,7 @@ void renderBenchmark(benchmark::State& state) {
     state.counters["first_frame_s"] = firstFrame;
     state.counters["spheres"] = double(n);
   } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
+    granular::bench::failCase(state, e);
   }
 }
 
@@ -136,7 +138,7 @@ void figureBenchmark(benchmark::State& state) {
     state.counters["s_per_figure"] = benchmark::Counter(
         double(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
+    granular::bench::failCase(state, e);
   }
 }
 
@@ -169,4 +171,10 @@ BENCHMARK(figureBenchmark)
     ->Repetitions(3)
     ->ReportAggregatesOnly(true);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return granular::bench::anyCaseFailed() ? 1 : 0;
+}

@@ -5,8 +5,9 @@
 /// The bed: a dense random packing (denseRandomPacking, seed 20261123) of the paper's material
 /// and radii (0.030–0.035 m) with a square footprint and `--layers` lattice layers (default 12,
 /// a bed ≈ 0.55 m deep, like the lower half of the paper's), in a box with side walls and a
-/// floor, settled under gravity for `--settle` steps (untimed, same integrator, heavier normal
-/// damping: see runCase) so that every particle carries its weight through ≈ 5-6 contacts. A fixed
+/// floor, settled under gravity for `--settle` steps (untimed, velocity Verlet at the same step,
+/// heavier normal damping: scale_bed_settling.hpp) so that every particle carries its weight
+/// through ≈ 5-6 contacts. A fixed
 /// depth keeps the load per particle the same at every n, so the cost per particle-step should be
 /// the same too: linear scaling. The timed steps then run with the integrator and friction asked
 /// for, 1 and 2 threads, from the same settled state.
@@ -48,6 +49,7 @@
 #include "granular/simulation.hpp"
 #include "granular/spatial_order.hpp"
 #include "proc_status.hpp"
+#include "scale_bed_settling.hpp"
 
 namespace {
 
@@ -175,17 +177,14 @@ void runCase(long n, const Options& o) {
   config.integrator = o.integrator;
   config.timeStep = kTimeStep;
   config.threads = 2;
-  // The bed settles with a near-critical normal damping (γn = 400 1/s, ζ ≈ 0.6 for a mean
-  // pair, instead of the paper's 60 1/s): the paper's soft, springy bed bounces as a whole for
-  // half a second, which would leave the contact count depending on the moment the timing
-  // starts. The timed simulation then starts from the settled particles at rest with the
-  // paper's material. The settling simulation is gone before the timed one is built, so the
+  // The bed settles as settlingConfig says (heavier damping, velocity Verlet); the timed
+  // simulation then starts from the settled particles at rest with the paper's material and the
+  // integrator asked for. The settling simulation is gone before the timed one is built, so the
   // peak memory is one simulation's (plus one copy of the particles' 88 bytes).
   const auto settleStart = std::chrono::steady_clock::now();
   {
-    granular::SimulationConfig settleConfig = config;
-    settleConfig.material.normalDamping = 400.0;
-    granular::Simulation settle(std::move(particles), granular::buildWalls(box), settleConfig);
+    granular::Simulation settle(std::move(particles), granular::buildWalls(box),
+                                granular::bench::settlingConfig(config));
     settle.run(static_cast<std::uint64_t>(o.settle));
     std::fprintf(stderr, "n = %ld: settled %ld steps, kinetic energy %.3g J per particle\n", n,
                  o.settle, settle.kineticEnergy() / static_cast<double>(n));

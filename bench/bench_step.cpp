@@ -13,10 +13,14 @@
 ///   contacts_per_particle         (2·particle contacts + wall contacts) / n, mean over the steps
 ///   neighbour_pairs_per_particle  candidate pairs in the neighbour list / n, mean over the steps
 ///
-/// Run: build/release/bench/granular_bench [--benchmark_filter=...]; see bench/RESULTS.md.
+/// Run: build/release/bench/granular_bench [--quick] [--benchmark_filter=...]; see
+/// bench/RESULTS.md. --quick: the 2000-sphere cases only, 20 timed steps, one repetition (a smoke
+/// run of a few seconds, not a measurement). Exits 1 when a case failed (its error is in the
+/// table).
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <cstring>
 #include <exception>
 #include <map>
 #include <string>
@@ -24,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "benchmark_failures.hpp"
 #include "granular/packings.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
@@ -92,13 +97,30 @@ void stepBenchmark(benchmark::State& state, Integrator integrator, double fricti
     state.counters["neighbour_pairs_per_particle"] =
         static_cast<double>(neighbourPairs) / (count * steps);
   } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
+    granular::bench::failCase(state, e);
   }
+}
+
+/// Removes --quick from the arguments (Google Benchmark refuses flags it does not know); true if
+/// it was there.
+bool takeQuick(int& argc, char** argv) {
+  bool quick = false;
+  int kept = 1;
+  for (int k = 1; k < argc; ++k) {
+    if (std::strcmp(argv[k], "--quick") == 0) {
+      quick = true;
+    } else {
+      argv[kept++] = argv[k];
+    }
+  }
+  argc = kept;
+  return quick;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  const bool quick = takeQuick(argc, argv);
   struct Case {
     std::int64_t n;            // particles
     std::int64_t settleSteps;  // untimed steps before timing
@@ -107,8 +129,10 @@ int main(int argc, char** argv) {
   // settle 200 (0.02 s): the lattice has just started to fall, few contacts; settle 5000
   // (0.5 s): the 2000-sphere bed has landed (the paper's stage-2 load), the 10⁵ bed (3 m tall)
   // is landing from the bottom up.
-  const Case cases[] = {
-      {2000, 200, 2000}, {2000, 5000, 2000}, {100000, 200, 50}, {100000, 5000, 50}};
+  const std::vector<Case> cases =
+      quick ? std::vector<Case>{{2000, 200, 20}, {2000, 5000, 20}}
+            : std::vector<Case>{
+                  {2000, 200, 2000}, {2000, 5000, 2000}, {100000, 200, 50}, {100000, 5000, 50}};
   const std::pair<Integrator, const char*> integrators[] = {
       {Integrator::Gear5, "Gear5"}, {Integrator::VelocityVerlet, "VelocityVerlet"}};
   const std::pair<double, const char*> frictions[] = {{0.0, "frictionless"}, {0.3, "frictional"}};
@@ -122,7 +146,7 @@ int main(int argc, char** argv) {
               stepBenchmark(s, integrator, friction);
             });
         b->ArgNames({"n", "settle"})->Args({c.n, c.settleSteps});
-        b->Iterations(c.steps)->Repetitions(3)->ReportAggregatesOnly(true);
+        b->Iterations(c.steps)->Repetitions(quick ? 1 : 3)->ReportAggregatesOnly(!quick);
         b->Unit(benchmark::kMillisecond);
       }
     }
@@ -132,5 +156,5 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  return 0;
+  return granular::bench::anyCaseFailed() ? 1 : 0;
 }

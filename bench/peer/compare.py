@@ -230,7 +230,8 @@ def main():
     ap.add_argument("--tolerance", type=float, default=0.01)
     args = ap.parse_args()
     with open(os.path.join(args.run_dir, "settings.txt")) as f:
-        settings = dict(l.strip().split(" = ", 1) for l in f if " = " in l)
+        # "lammps = " with nothing after it when that peer is not installed
+        settings = {k.strip(): v.strip() for k, v in (l.split(" = ", 1) for l in f if " = " in l)}
     dt0, tend = float(settings["dt"]), float(settings["tend"])
 
     best = timing_table(args.run_dir)

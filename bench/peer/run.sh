@@ -5,13 +5,15 @@
 # LAMMPS has no OPENMP package), runs the time-step sweep and prints the tables of compare.py.
 #
 #   bench/peer/run.sh [--quick] [--build-dir DIR] [--no-build] [--checkpoint FILE]
-#                     [--out DIR] [--reps N]
+#                     [--scene FILE] [--out DIR] [--reps N] [--no-wait]
 #
 #   --quick       0.2 s of stage 2, sweep 1, 2, 4 x dt against 0.5 x dt, one repetition (< 1 min)
 #   --build-dir   CMake build folder (default build/release); --no-build uses it as it is
 #   --checkpoint  settled mu = 0.3 bed (default runs/paper/mu03/settled.ckpt)
+#   --scene       the scene the checkpoint was settled from (default assets/scenes/paper-mu03.toml)
 #   --out         results (default runs/peer); report.md there holds the tables
 #   --reps        repetitions of each timing, the best kept (default 2)
+#   --no-wait     time at once, without waiting for a quiet machine (a smoke run, not a result)
 # Nothing is downloaded. Timings wait (up to 3 min) for the 1-minute load average to drop under
 # 1.5 and record it, since the machine may be shared.
 set -euo pipefail
@@ -24,15 +26,18 @@ OUT="$ROOT/runs/peer"
 QUICK=0
 BUILD_IT=1
 REPS=2
+WAIT=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) QUICK=1 ;;
     --build-dir) BUILD="$(realpath -m "$2")"; shift ;;
     --no-build) BUILD_IT=0 ;;
     --checkpoint) CHECKPOINT="$(realpath -m "$2")"; shift ;;
+    --scene) SCENE="$(realpath -m "$2")"; shift ;;
     --out) OUT="$(realpath -m "$2")"; shift ;;
     --reps) REPS="$2"; shift ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    --no-wait) WAIT=0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -117,10 +122,11 @@ run_code() {
   esac > "$stem.out" 2>&1 || true  # a failed run (unstable step) is reported by compare.py
 }
 
-# Waits for a quiet machine (1-minute load average < 1.5, at most 3 min) and logs the load.
+# Waits for a quiet machine (1-minute load average < 1.5, at most 3 min; not with --no-wait) and
+# logs the load.
 wait_quiet() {
   local waited=0
-  while awk '{exit !($1 >= 1.5)}' /proc/loadavg && [[ $waited -lt 180 ]]; do
+  while [[ $WAIT == 1 ]] && awk '{exit !($1 >= 1.5)}' /proc/loadavg && [[ $waited -lt 180 ]]; do
     sleep 10; waited=$((waited + 10))
   done
   echo "$1: $(uptime)" >> "$OUT/timing/load.txt"

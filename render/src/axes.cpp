@@ -55,14 +55,21 @@ double rowHeight(const TextMetrics& m) {
 // ---------------------------------------------------------------------------------------------
 // Tick choice
 
+/// A value's position along an axis in the units it is drawn in: log10 on a logarithmic one.
+double axisCoordinate(double v, bool logarithmic) {
+  return logarithmic ? (v > 0.0 ? std::log10(v) : NAN) : v;
+}
+
 /// Whether neighbouring tick labels keep apart on an axis `length` px long: one em between
 /// horizontal labels, 0.8 em between the cap heights of stacked ones.
-bool labelsFit(const Ticks& t, double lo, double hi, double length, bool horizontal, double font,
-               const TextMetrics& m) {
-  const double span = std::abs(hi - lo);
-  if (t.values.size() < 2 || span <= 0.0) return true;
+bool labelsFit(const Ticks& t, double lo, double hi, bool logarithmic, double length,
+               bool horizontal, double font, const TextMetrics& m) {
+  const double span = std::abs(axisCoordinate(hi, logarithmic) - axisCoordinate(lo, logarithmic));
+  if (t.values.size() < 2 || !(span > 0.0)) return true;
   for (std::size_t i = 0; i + 1 < t.values.size(); ++i) {
-    const double distance = std::abs(t.values[i + 1] - t.values[i]) / span * length;
+    const double distance = std::abs(axisCoordinate(t.values[i + 1], logarithmic) -
+                                     axisCoordinate(t.values[i], logarithmic)) /
+                            span * length;
     const double needed =
         horizontal ? 0.5 * (textWidth(t.labels[i], font) + textWidth(t.labels[i + 1], font)) + font
                    : m.capHeight + 0.8 * font;
@@ -79,17 +86,28 @@ double maxLabelWidth(const Ticks& t, double font) {
 
 }  // namespace
 
-Ticks ticksForAxis(double lo, double hi, double length, bool horizontal, double font) {
+Ticks ticksForAxis(double lo, double hi, double length, bool horizontal, double font,
+                   bool logarithmic) {
   const TextMetrics m = Font::get(FontWeight::Regular, font)->measure("");
+  if (logarithmic) {
+    Ticks coarsest;
+    for (int decades : {1, 2, 3, 5, 10, 20, 50, 100}) {
+      Ticks c = logTicks(lo, hi, decades);
+      if (decades == 1 || c.values.size() >= 2) coarsest = c;
+      if (labelsFit(c, lo, hi, true, length, horizontal, font, m)) return c;
+      if (c.step == 0.0) break;  // a short range: its labels are not powers to thin out
+    }
+    return coarsest;
+  }
   const int maxCount = std::clamp(int(length / (2.0 * font)) + 1, 2, 8);
   Ticks t = niceTicks(lo, hi, std::min(4, maxCount), maxCount);
-  if (labelsFit(t, lo, hi, length, horizontal, font, m)) return t;
+  if (labelsFit(t, lo, hi, false, length, horizontal, font, m)) return t;
   Ticks coarsest = t;
   for (double step : candidateSteps(lo, hi, 8)) {
     if (step <= t.step * (1.0 + 1e-9)) continue;
     Ticks c = ticksWithStep(lo, hi, step);
     if (c.values.size() >= 2) coarsest = c;
-    if (labelsFit(c, lo, hi, length, horizontal, font, m)) return c;
+    if (labelsFit(c, lo, hi, false, length, horizontal, font, m)) return c;
   }
   return coarsest;
 }
@@ -98,15 +116,20 @@ Ticks ticksForAxis(double lo, double hi, double length, bool horizontal, double 
 // Layout
 
 Axes::Axes(Rect panel, const AxesSpec& spec) : spec_(spec), panel_(panel) {
-  auto widen = [](double& lo, double& hi) {
+  auto widen = [](double& lo, double& hi, bool logarithmic) {
+    if (logarithmic) {
+      if (!(lo > 0.0 && hi > 0.0 && std::isfinite(lo) && std::isfinite(hi))) lo = 1.0, hi = 10.0;
+      if (lo == hi) lo /= 1.1, hi *= 1.1;
+      return;
+    }
     if (!(std::isfinite(lo) && std::isfinite(hi))) lo = 0.0, hi = 1.0;
     if (lo == hi) {
       const double d = lo == 0.0 ? 1.0 : 0.05 * std::abs(lo);
       lo -= d, hi += d;
     }
   };
-  widen(spec_.xMin, spec_.xMax);
-  widen(spec_.yMin, spec_.yMax);
+  widen(spec_.xMin, spec_.xMax, spec_.xLog);
+  widen(spec_.yMin, spec_.yMax, spec_.yLog);
   layout();
 }
 
@@ -132,8 +155,10 @@ void Axes::layout() {
   double left = leftBase + 2.0 * z.tickFont, right = rightLimit - lw, top = topBase + lw;
 
   auto fitTicks = [&](double axisLeft, double axisRight, double axisTop, double axisBottom) {
-    yTicks_ = ticksForAxis(spec_.yMin, spec_.yMax, axisBottom - axisTop, false, z.tickFont);
-    xTicks_ = ticksForAxis(spec_.xMin, spec_.xMax, axisRight - axisLeft, true, z.tickFont);
+    yTicks_ =
+        ticksForAxis(spec_.yMin, spec_.yMax, axisBottom - axisTop, false, z.tickFont, spec_.yLog);
+    xTicks_ =
+        ticksForAxis(spec_.xMin, spec_.xMax, axisRight - axisLeft, true, z.tickFont, spec_.xLog);
   };
   // The y multiplier ("×10³") shares the title's row when the centred title leaves room at its
   // left, so that panels with and without one keep their frames level.
@@ -154,12 +179,11 @@ void Axes::layout() {
     bottom = bottomFor(!spec_.xLabel.empty() || xTicks_.exponent != 0);
     // Right: the last x tick label may overhang the frame by half its width.
     right = rightLimit - lw;
-    const double span = spec_.xMax - spec_.xMin;
     if (!xTicks_.values.empty()) {
-      const double f = (xTicks_.values.back() - spec_.xMin) / span;
+      const double f = xFraction(xTicks_.values.back());
       const double half = 0.5 * textWidth(xTicks_.labels.back(), z.tickFont);
       if (f > 0.0) right = std::min(right, left + (rightLimit - half - left) / f);
-      const double f0 = (xTicks_.values.front() - spec_.xMin) / span;
+      const double f0 = xFraction(xTicks_.values.front());
       const double half0 = 0.5 * textWidth(xTicks_.labels.front(), z.tickFont);
       // The first label may overhang to the left past the y tick labels' column.
       const double overhang = panel_.left() + z.outer + half0 - (left + f0 * (right - left));
@@ -190,24 +214,39 @@ Rect Axes::reserved() const {
 // ---------------------------------------------------------------------------------------------
 // Mapping: the range ends sit on the frame lines' centres, half a line width outside the area.
 
+double Axes::xFraction(double x) const {
+  const double lo = axisCoordinate(spec_.xMin, spec_.xLog);
+  return (axisCoordinate(x, spec_.xLog) - lo) / (axisCoordinate(spec_.xMax, spec_.xLog) - lo);
+}
+
+double Axes::yFraction(double y) const {
+  const double lo = axisCoordinate(spec_.yMin, spec_.yLog);
+  return (axisCoordinate(y, spec_.yLog) - lo) / (axisCoordinate(spec_.yMax, spec_.yLog) - lo);
+}
+
 double Axes::xToPixel(double x) const {
   const double half = 0.5 * lineWidth_;
   const double x0 = area_.left() - half, x1 = area_.right() + half;
-  return x0 + (x - spec_.xMin) / (spec_.xMax - spec_.xMin) * (x1 - x0);
+  return x0 + xFraction(x) * (x1 - x0);
 }
 
 double Axes::yToPixel(double y) const {
   const double half = 0.5 * lineWidth_;
   const double y0 = area_.bottom() + half, y1 = area_.top() - half;
-  return y0 + (y - spec_.yMin) / (spec_.yMax - spec_.yMin) * (y1 - y0);
+  return y0 + yFraction(y) * (y1 - y0);
 }
 
 Point Axes::toData(Point p) const {
   const double half = 0.5 * lineWidth_;
   const double x0 = area_.left() - half, x1 = area_.right() + half;
   const double y0 = area_.bottom() + half, y1 = area_.top() - half;
-  return {spec_.xMin + (p.x - x0) / (x1 - x0) * (spec_.xMax - spec_.xMin),
-          spec_.yMin + (p.y - y0) / (y1 - y0) * (spec_.yMax - spec_.yMin)};
+  // The inverse of the fractions: along log10 of the range on a logarithmic axis.
+  auto along = [](double f, double lo, double hi, bool logarithmic) {
+    if (!logarithmic) return lo + f * (hi - lo);
+    return std::pow(10.0, std::log10(lo) + f * (std::log10(hi) - std::log10(lo)));
+  };
+  return {along((p.x - x0) / (x1 - x0), spec_.xMin, spec_.xMax, spec_.xLog),
+          along((p.y - y0) / (y1 - y0), spec_.yMin, spec_.yMax, spec_.yLog)};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -247,6 +286,17 @@ void Axes::drawFrame(Canvas& canvas) const {
   tickText.size = z.tickFont;
   tickText.color = st.ink;
   const double tickLength = std::round(z.tickLength);
+
+  // Minor ticks (logarithmic axes), outward like the others and shorter, without labels.
+  const double minorLength = std::round(0.55 * z.tickLength);
+  for (double v : xTicks_.minor) {
+    const double x = std::round(xToPixel(v) - 0.5 * lw);
+    canvas.fillRect({x, a.bottom() + lw, lw, minorLength}, st.ink);
+  }
+  for (double v : yTicks_.minor) {
+    const double y = std::round(yToPixel(v) - 0.5 * lw);
+    canvas.fillRect({a.left() - lw - minorLength, y, minorLength, lw}, st.ink);
+  }
 
   // x ticks, outward below the frame, labels centred under them.
   tickText.hAlign = HAlign::Center;

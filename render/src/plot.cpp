@@ -28,6 +28,20 @@ AxisRange paddedRange(double lo, double hi) {
   return {lo - 0.05 * span, hi + 0.05 * span};
 }
 
+/// paddedRange for a logarithmic axis: padded by 5 % of its decades on each side (half a decade
+/// around a single value); one decade, 1 to 10, when nothing is > 0.
+AxisRange paddedLogRange(double lo, double hi) {
+  if (!(lo > 0.0 && lo <= hi)) return {1.0, 10.0};
+  const double a = std::log10(lo), b = std::log10(hi);
+  const double pad = b - a > 1e-12 ? 0.05 * (b - a) : 0.5;
+  return {std::pow(10.0, a - pad), std::pow(10.0, b + pad)};
+}
+
+/// Whether a value has a place on an axis: finite, and > 0 on a logarithmic one.
+bool onAxis(double v, bool logarithmic) {
+  return std::isfinite(v) && (!logarithmic || v > 0.0);
+}
+
 struct Extent {
   double lo = INFINITY, hi = -INFINITY;
   void add(double v) {
@@ -121,9 +135,11 @@ Placed place(const Canvas& canvas, const Axes& axes, const PlotSpec& spec) {
     const std::size_t n = std::min(s.x.size(), s.y.size());
     std::vector<Point> line(n);
     for (std::size_t i = 0; i < n; ++i) {
-      // Non-finite values map to NaN, which the canvas treats as a break in the line.
-      line[i] = (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) ? axes.toPixel(s.x[i], s.y[i])
-                                                                 : Point{NAN, NAN};
+      // Non-finite values (and values ≤ 0 on a logarithmic axis) map to NaN, which the canvas
+      // treats as a break in the line.
+      line[i] = (onAxis(s.x[i], spec.xLog) && onAxis(s.y[i], spec.yLog))
+                    ? axes.toPixel(s.x[i], s.y[i])
+                    : Point{NAN, NAN};
     }
     addObstacles(p.obstacles, line, area);
     p.lines.push_back(std::move(line));
@@ -197,17 +213,24 @@ Axes drawPlot(Canvas& canvas, Rect panel, const PlotSpec& spec) {
   axesSpec.xLabel = spec.xLabel;
   axesSpec.yLabel = spec.yLabel;
   axesSpec.grid = spec.grid;
+  axesSpec.xLog = spec.xLog;
+  axesSpec.yLog = spec.yLog;
   axesSpec.style = st;
   Extent xs, ys;
   for (const Series& s : spec.series) {
     const std::size_t n = std::min(s.x.size(), s.y.size());
     for (std::size_t i = 0; i < n; ++i) {
-      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) xs.add(s.x[i]), ys.add(s.y[i]);
+      if (onAxis(s.x[i], spec.xLog) && onAxis(s.y[i], spec.yLog)) xs.add(s.x[i]), ys.add(s.y[i]);
     }
   }
-  for (const ReferenceLine& r : spec.references) ys.add(r.y);
-  const AxisRange xr = spec.xRange ? *spec.xRange : paddedRange(xs.lo, xs.hi);
-  const AxisRange yr = spec.yRange ? *spec.yRange : paddedRange(ys.lo, ys.hi);
+  for (const ReferenceLine& r : spec.references) {
+    if (onAxis(r.y, spec.yLog)) ys.add(r.y);
+  }
+  auto padded = [](const Extent& e, bool logarithmic) {
+    return logarithmic ? paddedLogRange(e.lo, e.hi) : paddedRange(e.lo, e.hi);
+  };
+  const AxisRange xr = spec.xRange ? *spec.xRange : padded(xs, spec.xLog);
+  const AxisRange yr = spec.yRange ? *spec.yRange : padded(ys, spec.yLog);
   axesSpec.xMin = xr.min, axesSpec.xMax = xr.max;
   axesSpec.yMin = yr.min, axesSpec.yMax = yr.max;
 

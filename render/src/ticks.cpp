@@ -154,13 +154,63 @@ std::string formatTick(double value, double step) {
 }
 
 std::string powerOfTen(int exponent) {
+  return "\u00d7" + decadeLabel(exponent);
+}
+
+std::string decadeLabel(int exponent) {
   static const char* const kDigits[10] = {"\u2070", "\u00b9", "\u00b2", "\u00b3", "\u2074",
                                           "\u2075", "\u2076", "\u2077", "\u2078", "\u2079"};
-  std::string s = "\u00d710";
+  std::string s = "10";
   if (exponent < 0) s += "\u207b";
   const std::string digits = std::to_string(std::abs(exponent));
   for (char c : digits) s += kDigits[c - '0'];
   return s;
+}
+
+Ticks logTicks(double lo, double hi, int decades) {
+  if (lo > hi) std::swap(lo, hi);
+  if (!(lo > 0.0 && std::isfinite(hi))) return {};
+  decades = std::max(1, decades);
+  const double eps = 1e-9;  // a tick a hair outside the range still counts (in log10 units)
+  const int first = int(std::floor(std::log10(lo) - eps));
+  const int last = int(std::ceil(std::log10(hi) + eps));
+  auto inside = [&](double v) {
+    return std::log10(v) >= std::log10(lo) - eps && std::log10(v) <= std::log10(hi) + eps;
+  };
+  // m · 10^k, computed as m / 10^−k for negative k: the double nearest the decimal value.
+  auto value = [](int m, int k) { return k >= 0 ? m * std::pow(10.0, k) : m / std::pow(10.0, -k); };
+  auto label = [](int m, int k) {
+    return m == 1 ? decadeLabel(k) : std::to_string(m) + "\u00d7" + decadeLabel(k);
+  };
+  int powers = 0;
+  for (int k = first; k <= last; ++k) powers += inside(value(1, k)) ? 1 : 0;
+  // Which mantissas are labelled: the powers alone, or more of them on a short range.
+  std::vector<int> labelled = {1};
+  if (powers < 2) {
+    labelled = {1, 2, 5};
+    int count = 0;
+    for (int k = first; k <= last; ++k) {
+      for (int m : labelled) count += inside(value(m, k)) ? 1 : 0;
+    }
+    if (count < 2) labelled = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  }
+  Ticks t;
+  for (int k = first; k <= last; ++k) {
+    for (int m = 1; m <= 9; ++m) {
+      const double v = value(m, k);
+      if (!inside(v)) continue;
+      const bool major = std::find(labelled.begin(), labelled.end(), m) != labelled.end() &&
+                         (powers < 2 || k % decades == 0);
+      if (major) {
+        t.values.push_back(v);
+        t.labels.push_back(label(m, k));
+      } else {
+        t.minor.push_back(v);
+      }
+    }
+  }
+  t.step = powers < 2 ? 0.0 : double(decades);  // in decades
+  return t;
 }
 
 std::string Ticks::multiplier() const {

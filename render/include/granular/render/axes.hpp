@@ -16,16 +16,21 @@ struct AxesSpec {
   std::string yLabel;             ///< drawn rotated, reading upwards
   double xMin = 0.0, xMax = 1.0;  ///< visible x range [data units]; xMin > xMax flips the axis
   double yMin = 0.0, yMax = 1.0;  ///< visible y range [data units]; y grows upwards
-  bool equalAspect = false;       ///< one data unit equally long on both axes (maps, fields)
-  bool grid = false;              ///< light lines at the ticks, under the data
-  double reserveRight = 0.0;      ///< width kept free right of the axes (colour bar, legend) [px]
+  /// Logarithmic axes: every decade equally long, ticks at the powers of ten labelled "10⁻⁴"
+  /// (logTicks); the range must then be > 0 (else one decade, 1 to 10, is shown).
+  bool xLog = false, yLog = false;
+  bool equalAspect = false;   ///< one data unit equally long on both axes (maps; linear axes only)
+  bool grid = false;          ///< light lines at the ticks, under the data
+  double reserveRight = 0.0;  ///< width kept free right of the axes (colour bar, legend) [px]
   FigureStyle style;
 };
 
 /// Ticks for an axis `length` px long labelled at `fontSize` px: niceTicks' choice (at most one
 /// tick per two ems), made coarser until neighbouring labels keep one em apart (horizontal axis)
-/// or 0.8 em between their cap heights (vertical axis).
-Ticks ticksForAxis(double lo, double hi, double length, bool horizontal, double fontSize);
+/// or 0.8 em between their cap heights (vertical axis). `logarithmic`: logTicks, labelling every
+/// first, second, third, fifth, tenth … power of ten, the first whose labels keep apart.
+Ticks ticksForAxis(double lo, double hi, double length, bool horizontal, double fontSize,
+                   bool logarithmic = false);
 
 class Axes {
  public:
@@ -45,6 +50,7 @@ class Axes {
   /// Frame and tick line width, whole pixels [px].
   int lineWidth() const { return lineWidth_; }
 
+  /// Data → pixel; on a logarithmic axis a value ≤ 0 has no pixel (NaN).
   double xToPixel(double x) const;
   double yToPixel(double y) const;
   Point toPixel(double x, double y) const { return {xToPixel(x), yToPixel(y)}; }
@@ -58,6 +64,10 @@ class Axes {
 
  private:
   void layout();
+  /// Where a value lies along its axis, 0 at the range's min and 1 at its max (log10 on a
+  /// logarithmic axis).
+  double xFraction(double x) const;
+  double yFraction(double y) const;
 
   AxesSpec spec_;
   Rect panel_;

@@ -60,6 +60,9 @@ struct PlotSpec {
   std::vector<Series> series;
   std::optional<AxisRange> xRange;  ///< fixed visible range; default: the data padded by 5 %
   std::optional<AxisRange> yRange;  ///< same; reference lines count as data
+  /// Logarithmic axes (AxesSpec::xLog): data stay in their own units, the padding is 5 % of the
+  /// range's decades, and values ≤ 0 are left out (a break in the line, as NaN).
+  bool xLog = false, yLog = false;
   std::vector<ReferenceLine> references;
   LegendPosition legend = LegendPosition::Auto;
   bool grid = false;
