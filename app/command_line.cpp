@@ -81,6 +81,11 @@ CommandLine::CommandLine(std::shared_ptr<const Communicator> ranks) : ranks_(std
   runCommand_->add_flag("--resume", run_.resume,
                         "Continue from OUT/checkpoint.bin if it exists (bit for bit as if the run "
                         "had never stopped); otherwise start from the beginning");
+  auto* force = runCommand_->add_flag(
+      "--force", run_.force,
+      "Start again in OUT even if it holds an earlier run: that run's files "
+      "(time series, snapshots, ParaView files, checkpoint) are removed first");
+  force->excludes("--resume");
 
   paper_.scenesDir = GRANULAR_SCENES_DIR;
   paperCommand_ = app_.add_subcommand(

@@ -50,8 +50,9 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
-                                   std::vector<std::string> walls, std::uint64_t bytes)
-    : file_(path, bytes), walls_(std::move(walls)) {}
+                                   std::vector<std::string> walls, std::uint64_t bytes,
+                                   std::optional<std::uint64_t> hash)
+    : file_(path, bytes, hash), walls_(std::move(walls)) {}
 
 void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
   const EnergyBalance e = sim.energy();

@@ -28,12 +28,15 @@ class TimeSeriesWriter {
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
                    const Material& material);
   /// Continues a file written up to `bytes` (a resumed run): rows after that are dropped, so the
-  /// file ends as if the run had never stopped. IoError if the file is shorter.
+  /// file ends as if the run had never stopped. IoError if the file is shorter; ConfigError,
+  /// nothing cut, if its first `bytes` do not hash to `hash` (they were edited).
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
-                   std::uint64_t bytes);
+                   std::uint64_t bytes, std::optional<std::uint64_t> hash);
   void write(const std::string& stage, const Simulation& sim);
   /// Bytes in the file so far (every row is written as it comes) [B].
   std::uint64_t bytes() const { return file_.bytes(); }
+  /// FNV-1a of those bytes.
+  std::uint64_t hash() const { return file_.contentHash(); }
   /// Waits until every row is on the disk (before a checkpoint that counts them).
   void sync() { file_.sync(); }
 

@@ -28,6 +28,7 @@
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
+#include "run_folder.hpp"
 #include "run_header.hpp"
 #include "run_progress.hpp"
 #include "stop_signals.hpp"
@@ -56,57 +57,33 @@ std::filesystem::path paraviewPath(const std::string& stage, std::uint64_t step,
 
 constexpr const char* kParaviewKinds[] = {"particles", "contacts", "walls"};
 
-/// The steps of the ParaView files of `stage` and `kind` in `outDir`/paraview within
-/// [first, last], in order.
-std::vector<std::uint64_t> paraviewSteps(const std::filesystem::path& outDir,
-                                         const std::string& stage, const char* kind,
-                                         std::uint64_t first, std::uint64_t last) {
-  const std::string prefix = fileSafeName(stage) + "_", suffix = std::string("_") + kind + ".vtp";
-  std::vector<std::uint64_t> steps;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(outDir / "paraview", error)) {
-    const std::string name = entry.path().filename().string();
-    if (name.size() <= prefix.size() + suffix.size() || !name.starts_with(prefix) ||
-        !name.ends_with(suffix)) {
-      continue;
-    }
-    const std::string digits =
-        name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 19) continue;
-    const std::uint64_t step = std::stoull(digits);
-    if (step >= first && step <= last) steps.push_back(step);
+/// The time since the run began of the state of `sim`, in stage `k`: the finished stages'
+/// durations and the time into this one [s]. It runs on across stages whatever their clocks.
+double runTime(const RunProgress& progress, std::size_t k, const Simulation& sim) {
+  double before = 0.0;
+  for (std::size_t j = 0; j < k && j < progress.finished.size(); ++j) {
+    before += progress.finished[j].result.duration;
   }
-  std::sort(steps.begin(), steps.end());
-  return steps;
+  return before + (sim.time() - progress.stageOrigin);
 }
 
-/// Writes the ParaView files of a snapshot of stage `k` (the state of `sim`), then rewrites
-/// particles.pvd, contacts.pvd and walls.pvd from every snapshot file of this run's stages
-/// present (so a resumed run lists the ones written before it stopped). A collection's time is
-/// the time since the run began, step × Δt: it runs on across stages whatever their clocks.
+/// Writes the ParaView files of a snapshot of stage `k` (the state of `sim`), adds it to the
+/// run's frames, then rewrites particles.pvd, contacts.pvd and walls.pvd from the frames: this
+/// run's snapshots and no others, whatever else the folder holds.
 void writeParaviewSnapshot(const std::filesystem::path& outDir, const Scene& scene,
-                           const RunProgress& progress, std::size_t k, const Simulation& sim) {
+                           RunProgress& progress, std::size_t k, const Simulation& sim) {
   createOutputFolder(outDir / "paraview");
   const std::string& stage = scene.stages[k].name;
   writeParticlesVtp(outDir / paraviewPath(stage, sim.stepCount(), "particles"), sim);
   writeContactsVtp(outDir / paraviewPath(stage, sim.stepCount(), "contacts"), sim);
   writeWallsVtp(outDir / paraviewPath(stage, sim.stepCount(), "walls"), sim, scene.box.min,
                 scene.box.max);
+  progress.frames.push_back({k, sim.stepCount(), runTime(progress, k, sim)});
   for (const char* kind : kParaviewKinds) {
     std::vector<PvdEntry> entries;
-    std::uint64_t stageStart = 0;  // a run starts at step 0; stage j spans its steps from here
-    for (std::size_t j = 0; j <= k; ++j) {
-      const std::uint64_t stageEnd =
-          j < k ? stageStart + progress.finished[j].result.steps : sim.stepCount();
-      for (std::uint64_t step :
-           paraviewSteps(outDir, scene.stages[j].name, kind, stageStart, stageEnd)) {
-        // An automatic step: the collection's "time" is the step number (the steps differ).
-        entries.push_back({scene.simulation.step.automatic
-                               ? double(step)
-                               : double(step) * scene.simulation.timeStep,
-                           paraviewPath(scene.stages[j].name, step, kind)});
-      }
-      stageStart = stageEnd;
+    for (const ParaviewFrame& frame : progress.frames) {
+      entries.push_back(
+          {frame.runTime, paraviewPath(scene.stages[frame.stage].name, frame.step, kind)});
     }
     writePvd(outDir / (std::string(kind) + ".pvd"), entries);
   }
@@ -173,6 +150,10 @@ Start startOrResume(const RunOptions& options, const Scene& scene,
     }
     return {std::move(c.simulation), std::move(progress), true};
   }
+  // A fresh start: the folder must not hold an earlier run's files, which the new run would
+  // mix with its own (--force removes them first).
+  if (root && options.force) removeEarlierRun(checkpoint.parent_path());
+  if (root) refuseEarlierRun(checkpoint.parent_path(), options.resume);
   if (options.resume && root) {
     std::cout << "no checkpoint " << checkpoint.string() << ": starting from the beginning\n";
   }
@@ -273,11 +254,14 @@ int runScene(const RunOptions& options) {
         << std::min(progress.stage + 1, scene.stages.size()) << " of " << scene.stages.size()
         << "\n";
   }
-  if (progress.stage == scene.stages.size()) {
-    out << "the run in " << outDir.string() << " is already complete\n";
-    return 0;
+  const bool complete = progress.stage == scene.stages.size();
+  if (complete) {
+    // Killed after its last checkpoint, perhaps before its final files: they are written again.
+    out << "the run in " << outDir.string()
+        << " is already complete: writing its final state and summary again\n";
+  } else {
+    printHeader(out, scene, sim, outDir);
   }
-  printHeader(out, scene, sim, outDir);
   // Under mpirun the run is split by space: each rank steps the particles of its brick, and
   // the whole state is gathered for the files (Simulation::splitAmong).
   if (ranks) sim.splitAmong(bricksFor(scene, sim, ranks->size()), options.ranks);
@@ -286,7 +270,7 @@ int runScene(const RunOptions& options) {
   std::optional<TimeSeriesWriter> series;
   if (!root) {
   } else if (start.resumed) {
-    series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes);
+    series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes, progress.seriesHash);
   } else {
     series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material);
   }
@@ -322,6 +306,7 @@ int runScene(const RunOptions& options) {
     if (series) {
       series->sync();
       progress.seriesBytes = series->bytes();
+      progress.seriesHash = series->hash();
     }
     withWhole(s, [&](const Simulation& whole) {
       writeCheckpoint(whole, checkpoint, fingerprint, encodeRunProgress(progress));
@@ -400,6 +385,8 @@ int runScene(const RunOptions& options) {
       // (steps = 0: checkpoints inside a stage follow at least one step) starts with its set-up.
       const StageProgress resumeAt = progress.inStage;
       const bool continuing = resumeAt.steps > 0;
+      // The stage's t = 0 on the simulation's clock (runStage resets the clock where asked).
+      if (!continuing) progress.stageOrigin = stage.resetClock ? 0.0 : sim.time();
       const auto stageStart = std::chrono::steady_clock::now();
       const StageResult result =
           runStage(sim, stage, scene.output, observer, continuing ? &resumeAt : nullptr);

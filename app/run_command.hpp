@@ -16,6 +16,9 @@ struct RunOptions {
   double checkpointEvery = 300.0;
   /// Continue from <outDir>/checkpoint.bin when it exists (else start from the beginning).
   bool resume = false;
+  /// Start again in an output folder that holds an earlier run: its files are removed first
+  /// (without it such a folder is refused, run_folder.hpp).
+  bool force = false;
   /// The processes of a run under mpirun (null: one process alone). The run is then split by
   /// space among them: rank 0 writes every file and prints, each rank steps its share.
   std::shared_ptr<const Communicator> ranks;

@@ -60,10 +60,16 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
   const char* integrator = config.integrator == Integrator::Gear5 ? "gear5" : "verlet";
   const StepCheck& check = sim.stepCheck();
   if (config.step.automatic) {
+    // The floor: t_c / contact_resolution, and for Gear5 also its own t_c/50 (measureStep).
+    const bool gearLimit = config.integrator == Integrator::Gear5 &&
+                           1.0 / kMaxStepFractionGear5 > config.step.contactResolution;
+    const double resolution =
+        gearLimit ? 1.0 / kMaxStepFractionGear5 : config.step.contactResolution;
     out << "integrator  " << integrator << ", dt = auto: " << format("%.4g", config.step.safety)
-        << " x the contact network's stable step, at most duration/"
-        << format("%g", config.step.contactResolution) << " = "
-        << format("%.4g", check.accuracyStep) << " s; re-chosen at each neighbour-list rebuild "
+        << " x the contact network's stable step, at most duration/" << format("%g", resolution)
+        << " = " << format("%.4g", check.accuracyStep) << " s"
+        << (gearLimit ? " (gear5's own limit)" : "")
+        << "; re-chosen at each neighbour-list rebuild "
         << "and every " << config.step.recheckSteps << " steps; first dt = " << csvNumber(dt)
         << " s ("
         << (check.contacts > 0 ? "network " + format("%.4g", check.networkStep) + " s from " +

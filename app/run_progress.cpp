@@ -62,6 +62,11 @@ std::string encodeRunProgress(const RunProgress& p) {
       << "series_bytes " << p.seriesBytes << "\n";
   if (p.energyReference) out << "energy_reference " << hex(*p.energyReference) << "\n";
   if (p.inStage.time) out << "stage_time " << hex(*p.inStage.time) << "\n";
+  if (p.seriesHash) out << "series_hash " << *p.seriesHash << "\n";
+  out << "stage_origin " << hex(p.stageOrigin) << "\n";
+  for (const ParaviewFrame& f : p.frames) {
+    out << "frame " << f.stage << " " << f.step << " " << hex(f.runTime) << "\n";
+  }
   for (const FinishedStage& f : p.finished) {
     out << "finished " << (f.result.reason == StageEndReason::KineticEnergy ? "kinetic" : "time")
         << " " << hex(f.result.duration) << " " << f.result.steps << " " << hex(f.wallSeconds)
@@ -98,6 +103,23 @@ RunProgress decodeRunProgress(const std::string& text, const std::string& file) 
     }
     if (key == "stage_time" && !p.inStage.time && p.finished.empty()) {
       p.inStage.time = f.number();
+      continue;
+    }
+    if (key == "series_hash" && !p.seriesHash && p.finished.empty()) {
+      p.seriesHash = f.count();
+      continue;
+    }
+    if (key == "stage_origin" && p.finished.empty()) {
+      p.stageOrigin = f.number();
+      continue;
+    }
+    if (key == "frame") {
+      ParaviewFrame frame;
+      frame.stage = f.count();
+      frame.step = f.count();
+      frame.runTime = f.number();
+      if (frame.stage > p.stage) f.fail();
+      p.frames.push_back(frame);
       continue;
     }
     if (key != "finished") f.fail();

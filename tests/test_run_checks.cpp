@@ -170,7 +170,8 @@ struct Outcome {
 
 Outcome runScene(const fs::path& dir, const fs::path& scene) {
   granular::testing::GranularProcess run(
-      {"run", scene.string(), "--out", (dir / "out").string(), "-q"}, dir / "stderr.txt");
+      {"run", scene.string(), "--out", (dir / "out").string(), "-q", "--force"},
+      dir / "stderr.txt");
   EXPECT_TRUE(run.started());
   const int status = run.wait();
   return {status, run.stderrText(), granular::testing::readFile(dir / "out" / "summary.txt")};

@@ -266,5 +266,32 @@ TEST(RunOutputs, HeaderPrintsTheStepInFullAndOnlyContactsTheSceneCanForm) {
   EXPECT_EQ(dt, scene.simulation.timeStep) << text;
 }
 
+TEST(RunOutputs, HeaderAtAnAutomaticStepStatesTheFloorItPrints) {
+  // Gear5 keeps its own t_c/50 below contact_resolution's t_c/10: the header names the fraction
+  // whose value it prints. Verlet's floor is contact_resolution's.
+  for (const Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    Scene scene;
+    scene.box.max = Vec3(1, 1, 2);
+    GridGenerator one;
+    one.origin = Vec3(0.45, 0.45, 0.0);
+    one.count = 1;
+    scene.generators.push_back(one);
+    scene.stages.push_back(StageSpec{});
+    scene.simulation.integrator = integrator;
+    scene.simulation.step.automatic = true;
+    const Simulation sim = buildSimulation(scene);
+    std::ostringstream header;
+    app::printHeader(header, scene, sim, "out");
+    const std::string text = header.str();
+    const bool gear = integrator == Integrator::Gear5;
+    const std::string fraction = gear ? "duration/50 = " : "duration/10 = ";
+    const std::size_t at = text.find(fraction);
+    ASSERT_NE(at, std::string::npos) << text;
+    const double printed = std::stod(text.substr(at + fraction.size()));
+    const double duration = sim.contactScale().duration;
+    EXPECT_NEAR(printed, duration / (gear ? 50.0 : 10.0), 1e-3 * printed) << text;
+  }
+}
+
 }  // namespace
 }  // namespace granular

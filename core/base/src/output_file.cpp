@@ -19,6 +19,7 @@
 #include <string>
 #include <utility>
 
+#include "fnv1a.hpp"
 #include "granular/error.hpp"
 
 namespace granular {
@@ -258,15 +259,34 @@ void writeFileAtomically(const std::filesystem::path& file, std::string_view byt
 
 // 4. AppendFile -----------------------------------------------------------------------------------
 
-AppendFile::AppendFile(std::filesystem::path file) : file_(std::move(file)) {
+AppendFile::AppendFile(std::filesystem::path file) : file_(std::move(file)), hash_(kFnv1aOffset) {
   refuseFolder(file_);
   fd_ = ::open(file_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) throw IoError(file_.string() + ": cannot create: " + reason(errno));
 }
 
-AppendFile::AppendFile(std::filesystem::path file, std::uint64_t keepBytes)
-    : file_(std::move(file)) {
+AppendFile::AppendFile(std::filesystem::path file, std::uint64_t keepBytes,
+                       std::optional<std::uint64_t> expectedHash)
+    : file_(std::move(file)), hash_(kFnv1aOffset) {
   refuseFolder(file_);
+  {
+    // The kept bytes, read before anything is cut: a file changed where it is kept is refused
+    // as it is.
+    InputFile in(file_, "file to continue");
+    if (in.size() >= keepBytes) {
+      constexpr std::uint64_t kBlock = 1 << 20;
+      for (std::uint64_t at = 0; at < keepBytes; at += kBlock) {
+        const std::string block = in.read(at, std::min(kBlock, keepBytes - at));
+        hash_ = fnv1a(block.data(), block.size(), hash_);
+      }
+      if (expectedHash && hash_ != *expectedHash) {
+        throw ConfigError(file_.string() + ": its first " + std::to_string(keepBytes) +
+                          " bytes, written before the checkpoint, were changed since (edited "
+                          "by hand?); a resumed run continues only what it wrote itself: "
+                          "restore the file, or start the run again");
+      }
+    }
+  }
   fd_ = ::open(file_.c_str(), O_WRONLY | O_CLOEXEC);
   if (fd_ < 0) throw IoError(file_.string() + ": cannot open to continue it: " + reason(errno));
   struct stat st {};
@@ -298,6 +318,7 @@ void AppendFile::append(std::string_view record) {
     throw IoError(file_.string() + ": cannot write: " + reason(e));
   }
   bytes_ += record.size();
+  hash_ = fnv1a(record.data(), record.size(), hash_);
 }
 
 void AppendFile::sync() {

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -55,8 +56,11 @@ class AppendFile {
   /// Creates `file`, or empties an existing one.
   explicit AppendFile(std::filesystem::path file);
   /// Continues `file` after its first `keepBytes` bytes, cutting off the rest (a resumed run).
-  /// IoError if the file is shorter or cannot be opened.
-  AppendFile(std::filesystem::path file, std::uint64_t keepBytes);
+  /// IoError if the file is shorter or cannot be opened. With `expectedHash`, the kept bytes
+  /// must hash to it (contentHash() when they were written) or nothing is cut and ConfigError
+  /// says the file was changed: a resumed run continues only what it wrote itself.
+  AppendFile(std::filesystem::path file, std::uint64_t keepBytes,
+             std::optional<std::uint64_t> expectedHash = std::nullopt);
   ~AppendFile();
   AppendFile(const AppendFile&) = delete;
   AppendFile& operator=(const AppendFile&) = delete;
@@ -66,11 +70,14 @@ class AppendFile {
   void sync();
   /// Bytes in the file [B].
   std::uint64_t bytes() const { return bytes_; }
+  /// FNV-1a of every byte in the file (kept and appended).
+  std::uint64_t contentHash() const { return hash_; }
 
  private:
   std::filesystem::path file_;
   int fd_ = -1;
   std::uint64_t bytes_ = 0;
+  std::uint64_t hash_;
 };
 
 /// A regular file opened for reading. IoError naming the file and `what` it should be
