@@ -19,6 +19,7 @@
 #include "granular/checkpoint.hpp"
 #include "paper_command.hpp"
 #include "paper_figures.hpp"
+#include "paper_run_folder.hpp"
 
 namespace fs = std::filesystem;
 
@@ -202,5 +203,52 @@ TEST(PaperCommand, AnUnrelatedFolderIsNotOverwritten) {
   EXPECT_NE(message.find("--force"), std::string::npos) << message;
   EXPECT_EQ(readText(dir / "report.md"), "my own report\n");
   EXPECT_FALSE(fs::exists(dir / "mu0"));
+  fs::remove_all(dir);
+}
+
+// A folder is a paper run by what a paper run writes into its case folders, not by their names:
+// an empty mu0/ beside somebody's report.md is not one, and the refusal names the folder and
+// what to do.
+TEST(PaperCommand, AnEmptyCaseFolderDoesNotMakeAFolderAPaperRun) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_empty_case";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mu0");
+  std::ofstream(dir / "report.md") << "my own report\n";
+  granular::app::PaperOptions options;
+  // Never read: the refusal comes first (without it, the run would stop at the missing scene
+  // with another message, instead of running for minutes and overwriting report.md).
+  options.scenesDir = dir / "no-scenes";
+  options.outDir = dir;
+  options.quiet = true;
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(granular::app::paperCommand(options), 2);
+  testing::internal::GetCapturedStdout();
+  const std::string message = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(message.rfind("error: " + dir.string() + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find("not a `granular paper` run folder"), std::string::npos) << message;
+  EXPECT_NE(message.find("mu0/case.txt"), std::string::npos) << message;
+  EXPECT_NE(message.find("choose another --out"), std::string::npos) << message;
+  EXPECT_NE(message.find("--force"), std::string::npos) << message;
+  EXPECT_EQ(readText(dir / "report.md"), "my own report\n");
+  EXPECT_TRUE(fs::is_empty(dir / "mu0"));
+  fs::remove_all(dir);
+}
+
+// What a paper run leaves in a case folder makes a folder a paper run: case.txt naming its scene
+// (written before stage 1), or the settled checkpoint; an empty or foreign case folder does not.
+TEST(PaperCommand, APaperRunFolderIsRecognisedByItsCaseFiles) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_run_folder";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mu0");
+  EXPECT_FALSE(granular::app::isPaperRunFolder(dir));
+  std::ofstream(dir / "mu0/case.txt") << "my notes on the frictionless case\n";
+  EXPECT_FALSE(granular::app::isPaperRunFolder(dir));
+  std::ofstream(dir / "mu0/case.txt") << "scene = assets/scenes/paper-mu0.toml\nfriction = 0\n";
+  EXPECT_TRUE(granular::app::isPaperRunFolder(dir));
+  fs::remove(dir / "mu0/case.txt");
+  fs::create_directories(dir / "mu03");
+  std::ofstream(dir / "mu03/settled.ckpt") << "a checkpoint";
+  EXPECT_TRUE(granular::app::isPaperRunFolder(dir));
   fs::remove_all(dir);
 }

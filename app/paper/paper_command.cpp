@@ -22,6 +22,7 @@
 #include "paper_fields.hpp"
 #include "paper_figures.hpp"
 #include "paper_report.hpp"
+#include "paper_run_folder.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
 #include "stop_signals.hpp"
@@ -441,28 +442,10 @@ SensitivityOutcome runSensitivity(const CaseOutcome& mindlin, const PaperOptions
 
 // 3. Both cases and the report --------------------------------------------------------------------
 
-/// A folder `granular paper` may write into: new, empty, or one it wrote before (holding a
-/// case folder). Anything else is somebody's other work, kept unless --force.
-void checkOutputFolder(const PaperOptions& options) {
-  std::error_code ec;
-  if (options.force || !std::filesystem::exists(options.outDir, ec)) return;
-  if (!std::filesystem::is_directory(options.outDir, ec)) {
-    throw IoError(options.outDir.string() + ": --out must be a folder; this is a file");
-  }
-  if (std::filesystem::is_empty(options.outDir, ec)) return;
-  for (const PaperReference& ref : kPaperCases) {
-    if (std::filesystem::is_directory(options.outDir / ref.name, ec)) return;
-  }
-  throw ConfigError(options.outDir.string() +
-                    ": not empty and not a `granular paper` run folder (no mu0/ or mu03/): "
-                    "its report.md and figures/ would be overwritten; choose another --out or "
-                    "add --force");
-}
-
 int runPaper(const PaperOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   catchStopSignals();
-  checkOutputFolder(options);
+  checkPaperOutputFolder(options.outDir, options.force);
   createOutputFolder(options.outDir);
   ProgressReporter progress(!options.quiet);
   if (options.sensitivity && options.seeds < 2) {
