@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "csv_output.hpp"
+#include "paper_convexity.hpp"
 #include "paper_derived.hpp"
 #include "run_header.hpp"
 
@@ -348,11 +349,8 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const double centre = f(k, "sigma33_mid_centre_Pa"), walls = f(k, "sigma33_mid_walls_Pa");
     const double convexity = centre / walls - 1.0;
-    out << "- " << caseLabel(cases[k]) << ": at mid-depth |σ33| is "
-        << pct(std::abs(convexity), "%.0f %%") << (convexity >= 0 ? " larger" : " smaller")
-        << " at the centre than at the walls"
-        << (convexity > 0 ? " (convex, peaked at the centre)" : "") << "; σ1 is tilted "
-        << format("%.0f", f(k, "sigma1_tilt_centre_deg"))
+    out << "- " << caseLabel(cases[k]) << ": at mid-depth |σ33| is " << sigma33ShapeWords(convexity)
+        << "; σ1 is tilted " << format("%.0f", f(k, "sigma1_tilt_centre_deg"))
         << "° from the vertical at the centre and " << format("%.0f", f(k, "sigma1_tilt_walls_deg"))
         << "° near the walls; the side walls carry "
         << pct(f(k, "wall_friction_mobilised"), "%.1f %%")
