@@ -464,6 +464,7 @@ int runPaper(const PaperOptions& options) {
     for (const std::string& missing : set.missing) {
       std::cerr << "warning: figure not drawn: " << missing << "\n";
     }
+    for (const std::string& gap : set.gaps) std::cerr << "warning: " << gap << "\n";
     figures = std::move(set.written);
   } catch (const Interrupted&) {
     throw;
