@@ -73,6 +73,7 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   ASSERT_EQ(status, 0);
 
   const std::string report = readText(options.outDir / "report.md");
+  EXPECT_NE(report.find("## Run checks\n\nEvery bed passed the run checks"), std::string::npos);
   EXPECT_NE(report.find("## Sensitivity: a constant tangential stiffness"), std::string::npos);
   EXPECT_NE(report.find("### Over 2 seeds"), std::string::npos);
   // The sensitivity bed's k_t is Mindlin's at the μ = 0.3 bed's mean reduced radius and overlap
@@ -327,5 +328,59 @@ TEST(PaperCommand, FiguresSayWhichCellOfTheirDataIsNotANumber) {
   const granular::render::Image forces =
       granular::render::readPng(dir / "figures/fig07_forces_mu03.png");
   EXPECT_GT(granular::render::countColorPixels(forces, granular::render::categorical(0), 10), 1000);
+  fs::remove_all(dir);
+}
+
+// The run checks of `granular run` run in every bed of `granular paper`: a drift limit no
+// integrator meets (10⁻¹²) fails in both cases, said on stderr naming the case and listed in
+// report.md, whose targets then are not all met; under on_failed_check = "stop" the command
+// ends with exit 3 naming the case, and writes no report.
+TEST(PaperCommand, AFailedRunCheckIsWarnedOfAndListedInTheReport) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_run_checks";
+  fs::remove_all(dir);
+  std::string scene =
+      readText(fs::path(GRANULAR_SOURCE_DIR) / "tests/scenes/reduced-compaction.toml");
+  const std::string output = "[output]\ninterval = 0.01\n";
+  ASSERT_NE(scene.find(output), std::string::npos);
+  scene.replace(scene.find(output), output.size(), output + "energy_drift_limit = 1e-12\n");
+  for (const char* action : {"warn", "stop"}) {
+    SCOPED_TRACE(action);
+    const fs::path scenes = dir / action / "scenes";
+    fs::create_directories(scenes);
+    // Frictionless both: no sensitivity study, whose beds would only repeat the finding.
+    for (const char* name : {"paper-mu0.toml", "paper-mu03.toml"}) {
+      std::ofstream(scenes / name) << scene << "on_failed_check = \"" << action << "\"\n";
+    }
+    granular::app::PaperOptions options;
+    options.scenesDir = scenes;
+    options.outDir = dir / action / "out";
+    options.quiet = true;
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int status = granular::app::paperCommand(options);
+    testing::internal::GetCapturedStdout();
+    const std::string message = testing::internal::GetCapturedStderr();
+    if (std::string(action) == "stop") {
+      EXPECT_EQ(status, 3) << message;
+      EXPECT_NE(message.find("error: case mu0: energy balance drifted by "), std::string::npos)
+          << message;
+      EXPECT_FALSE(fs::exists(options.outDir / "report.md"));
+      continue;
+    }
+    ASSERT_EQ(status, 0) << message;
+    for (const char* name : {"mu0", "mu03"}) {
+      EXPECT_NE(message.find(std::string("warning: case ") + name + ": energy balance drifted by "),
+                std::string::npos)
+          << message;
+    }
+    const std::string report = readText(options.outDir / "report.md");
+    EXPECT_NE(report.find("## Run checks\n\n**Failed**"), std::string::npos) << report;
+    EXPECT_NE(report.find("- `mu0`: energy balance drifted by "), std::string::npos) << report;
+    EXPECT_NE(report.find("- `mu03`: energy balance drifted by "), std::string::npos) << report;
+    EXPECT_NE(report.find("- [ ] run checks (energy balance, particles in the box) passed in every "
+                          "bed — 2 failed (see Run checks) — **not met**"),
+              std::string::npos)
+        << report;
+  }
   fs::remove_all(dir);
 }

@@ -27,6 +27,7 @@
 #include "gui_script.hpp"
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
+#include "status_line.hpp"
 
 namespace fs = std::filesystem;
 using namespace granular;
@@ -276,12 +277,14 @@ void statusBar(const Snapshot& snap, double framesPerSecond, float y, float widt
   ImGui::Begin(
       "Status", nullptr,
       ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
-  ImGui::Text(
-      "t = %.4f s | stage %d | %s | %.0f steps/s | %zu contacts + %zu wall | energy balance "
-      "%+.2e | %.0f frames/s%s%s",
-      snap.time, snap.stage, snap.running ? "running" : "paused", snap.stepsPerSecond,
-      snap.particleContacts, snap.wallContacts, snap.energyBalanceError, framesPerSecond,
-      snap.message.empty() ? "" : " | ", snap.message.c_str());
+  ImGui::TextUnformatted(statusLine(snap, framesPerSecond).c_str());
+  // A failed run check in red after it, in full on hover (a long one runs past the window).
+  const std::string failed = failedCheckStatus(snap);
+  if (!failed.empty()) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "| %s", failed.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", failed.c_str());
+  }
   ImGui::End();
 }
 

@@ -17,6 +17,7 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/run_checks.hpp"
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stress.hpp"
 #include "paper_fields.hpp"
@@ -210,6 +211,25 @@ BedContacts bedContacts(const Simulation& sim) {
   return bed;
 }
 
+/// Both stages of the case in `folder`. A failed run check (energy balance, a particle outside
+/// the box) is a warning on stderr naming the case, kept in the result for the report; under
+/// on_failed_check = "stop" it ends the command (exit 3), naming the case.
+CompactionResult checkedCompaction(const Scene& scene, const CompactionOptions& run,
+                                   const std::string& folder, ProgressReporter& progress) {
+  CompactionResult result;
+  try {
+    result = runCompaction(scene, run);
+  } catch (const RunCheckError& e) {
+    progress.finish();
+    throw RunCheckError("case " + folder + ": " + e.what());
+  }
+  progress.finish();
+  for (const std::string& failed : result.failedChecks) {
+    std::cerr << "warning: case " << folder << ": " << failed << "\n";
+  }
+  return result;
+}
+
 /// The scene of a case: the paper's, with the constant tangential law at `constantStiffness`
 /// when positive and the grid's seed replaced when `seed` is given.
 Scene caseScene(const std::filesystem::path& sceneFile, double constantStiffness,
@@ -315,8 +335,7 @@ CaseOutcome runCase(const PaperReference& ref, const std::string& folder, double
                          ? std::string(" (stage 1 starts again)")
                          : " (stage 1 is restored from " + checkpoint.string() + ")"));
   };
-  outcome.result = runCompaction(scene, run);
-  progress.finish();
+  outcome.result = checkedCompaction(scene, run, folder, progress);
   if (!outcome.result.checkpointRefused.empty()) {
     std::cout << "settled again: the settled checkpoint was not used: "
               << outcome.result.checkpointRefused << "\n";
@@ -392,8 +411,7 @@ CaseOutcome runSeed(const PaperReference& ref, const Scene& scene, const std::fi
         "the sensitivity runs are incomplete; run the same command again (the beds "
         "settled so far are restored)");
   };
-  outcome.result = runCompaction(scene, run);
-  progress.finish();
+  outcome.result = checkedCompaction(scene, run, outcome.folder, progress);
   outcome.wallSeconds = secondsSince(start);
   return outcome;
 }
