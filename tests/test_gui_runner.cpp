@@ -297,8 +297,10 @@ std::filesystem::path unreachableDriftScene(const std::string& action) {
 // The window's run checks itself at every output interval as `granular run` does, and its status
 // line says what failed, in the words of the check; "stop" pauses the run there and says it once.
 TEST(GuiRunner, AFailedRunCheckIsOnTheStatusLine) {
+  const std::filesystem::path warnScene = unreachableDriftScene("warn"),
+                              stopScene = unreachableDriftScene("stop");
   {
-    SimRunner runner(unreachableDriftScene("warn"));
+    SimRunner runner(warnScene);
     runner.setStepsPerUpdate(50);
     const Snapshot s = stepAndWait(runner, 400);  // 0.068 s: six output intervals
     ASSERT_EQ(s.failedChecks.size(), 1u);
@@ -308,7 +310,7 @@ TEST(GuiRunner, AFailedRunCheckIsOnTheStatusLine) {
     EXPECT_EQ(failedCheckStatus(s), "run check failed: " + s.failedChecks[0]);
   }
   {
-    SimRunner runner(unreachableDriftScene("stop"));
+    SimRunner runner(stopScene);
     runner.setStepsPerUpdate(50);
     runner.run();
     Snapshot s;
@@ -323,6 +325,8 @@ TEST(GuiRunner, AFailedRunCheckIsOnTheStatusLine) {
     EXPECT_EQ(failedCheckStatus(s).rfind("run check failed: energy balance drifted by ", 0), 0u);
     EXPECT_EQ(statusLine(s, 60).find("drifted"), std::string::npos) << statusLine(s, 60);
   }
+  std::filesystem::remove(warnScene);
+  std::filesystem::remove(stopScene);
   // The demo bed at its own limit (5 %) passes, also after its stiffness is raised a hundredfold
   // mid-run: the elastic energy that adds without work is the new material's, not a drift.
   SimRunner runner(kDemo);
