@@ -9,6 +9,7 @@
 
 #include "csv_output.hpp"
 #include "granular/error.hpp"
+#include "granular/run_checks.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
@@ -54,10 +55,27 @@ int calibrate(const CalibrateOptions& options) {
         << "|---|---|---|---|---|\n";
   // Settled height scales as 1/side² at fixed packing fraction: fit H = a/side² by least squares.
   double sumXY = 0, sumXX = 0;
+  std::vector<std::string> failedChecks;  // "box side 0.5 m: what failed"
   for (double side : options.sides) {
     const Scene scene = withSide(base, side);
     Simulation sim = buildSimulation(scene);
+    const std::string box = "box side " + format("%g", side) + " m";
+    // Each settling checks itself at its samples, as `granular run` does: a failed check is a
+    // warning on stderr and in the report, or ends the command under on_failed_check = "stop".
+    RunChecks checks(scene.output.checks, scene.box, sim.energy().total());
     StageObserver observer;
+    observer.onSample = [&](const Simulation& s) {
+      try {
+        for (const std::string& failed : checks.atSample(s, scene.stages.at(0).name)) {
+          progress.finish();
+          std::cerr << "warning: " << box << ": " << failed << "\n";
+          failedChecks.push_back(box + ": " + failed);
+        }
+      } catch (const RunCheckError& e) {
+        progress.finish();
+        throw RunCheckError(box + ": " + e.what() + "; nothing written");
+      }
+    };
     observer.onProgress = [&](const Simulation& s, const StageSpec& st) {
       progress.update(s, st);
       stopIfSignalled("the box of side " + format("%g", side) +
@@ -90,6 +108,14 @@ int calibrate(const CalibrateOptions& options) {
          << format("%.4f", best) << " m gives the target settled height "
          << format("%.4f", options.targetHeight) << " m.\n";
   std::cout << result.str();
+  // The report says whether the settlings it rests on passed their run checks.
+  std::string checked = "\nRun checks (energy balance, particles in the box): ";
+  if (failedChecks.empty()) {
+    checked += "every settling passed.\n";
+  } else {
+    checked += "**failed**, the heights above may not be trustworthy:\n\n";
+    for (const std::string& failed : failedChecks) checked += "- " + failed + "\n";
+  }
   if (!options.report.empty()) {
     std::string sides;
     for (double side : options.sides) {
@@ -98,7 +124,8 @@ int calibrate(const CalibrateOptions& options) {
     }
     writeTextFile(options.report, "Command: `granular calibrate-box " + options.scene.string() +
                                       " --target-height " + format("%g", options.targetHeight) +
-                                      " --sides " + sides + "`\n\n" + table.str() + result.str());
+                                      " --sides " + sides + "`\n\n" + table.str() + result.str() +
+                                      checked);
   }
   return 0;
 }

@@ -62,6 +62,7 @@ CsvTable readCsv(const std::filesystem::path& file) {
       if (!parseNumber(cells[c], v)) numeric[c] = false;
       all[c].push_back(v);
     }
+    table.lines.push_back(lineNo);
   }
   for (std::size_t c = 0; c < names.size(); ++c) {
     if (!numeric[c]) continue;
@@ -69,6 +70,31 @@ CsvTable readCsv(const std::filesystem::path& file) {
     table.columns.push_back(std::move(all[c]));
   }
   return table;
+}
+
+std::vector<std::string> nonFiniteCells(const CsvTable& table,
+                                        const std::vector<std::string>& columns) {
+  constexpr std::size_t kListed = 3;  // line numbers named; the rest are counted
+  std::vector<std::string> found;
+  for (const std::string& name : columns) {
+    const std::vector<double>& values = table.column(name);
+    std::string lines;
+    std::size_t count = 0;
+    bool nan = false, inf = false;
+    for (std::size_t row = 0; row < values.size(); ++row) {
+      if (std::isfinite(values[row])) continue;
+      (std::isnan(values[row]) ? nan : inf) = true;
+      if (count++ < kListed)
+        lines += (lines.empty() ? "" : ", ") + std::to_string(table.lines[row]);
+    }
+    if (count == 0) continue;
+    if (count > kListed) lines += " and " + std::to_string(count - kListed) + " more";
+    found.push_back((count == 1 ? "line " : "lines ") + lines + ", column " + name + ": " +
+                    (nan && inf ? "nan or inf"
+                     : nan      ? "nan"
+                                : "inf"));
+  }
+  return found;
 }
 
 std::map<std::string, std::string> readKeyValues(const std::filesystem::path& file) {

@@ -14,6 +14,7 @@ class CsvTable {
   std::filesystem::path file;
   std::vector<std::string> header;
   std::vector<std::vector<double>> columns;  ///< columns[c][row]
+  std::vector<long> lines;                   ///< the file's line number of each row (header: 1)
 
   /// The column of that header name; IoError naming the file and the name if absent.
   const std::vector<double>& column(const std::string& name) const;
@@ -22,6 +23,12 @@ class CsvTable {
 
 /// Reads a numeric CSV table; non-numeric columns (a stage name) are skipped.
 CsvTable readCsv(const std::filesystem::path& file);
+
+/// The cells of `columns` (names in `table`'s header) that hold no finite number, one message a
+/// column: "line 5, column R33_top_N: nan" or "lines 5, 9, 12 and 2 more, column R33_top_N: nan
+/// or inf" (an empty cell reads as nan). Empty when every cell is finite.
+std::vector<std::string> nonFiniteCells(const CsvTable& table,
+                                        const std::vector<std::string>& columns);
 
 /// Reads "key = value" lines.
 std::map<std::string, std::string> readKeyValues(const std::filesystem::path& file);

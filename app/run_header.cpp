@@ -149,6 +149,8 @@ ErrorReport reportOf(const std::exception_ptr& error) {
     return {1, std::string("error: ") + e.what()};
   } catch (const Interrupted& e) {
     return {128 + e.signal(), e.what()};
+  } catch (const NumericalError& e) {  // a broken state or a failed run check: exit 3
+    return {3, std::string("error: ") + e.what()};
   } catch (const std::bad_alloc&) {
     return {1, "error: out of memory (std::bad_alloc)"};
   } catch (const std::exception& e) {

@@ -31,8 +31,9 @@ std::vector<std::string> reactionWallNames(const Scene& scene);
 void createOutputFolder(const std::filesystem::path& folder);
 
 /// Runs `body`, mapping exceptions to a message on stderr and an exit status: 2 for an invalid
-/// scene, configuration or checkpoint, 1 for I/O and anything else, 128 + the signal's number
-/// for a stop by SIGTERM or SIGINT (stop_signals.hpp).
+/// scene, configuration or checkpoint, 3 for a broken state or a failed run check
+/// (NumericalError), 1 for I/O and anything else, 128 + the signal's number for a stop by
+/// SIGTERM or SIGINT (stop_signals.hpp).
 int withErrorMapping(const std::function<int()>& body);
 
 /// The exit status and the message withErrorMapping gives an exception.

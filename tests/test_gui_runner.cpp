@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <thread>
 
@@ -17,6 +19,7 @@
 #include "gui_script.hpp"
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
+#include "status_line.hpp"
 
 using namespace granular;
 using namespace granular::gui;
@@ -258,4 +261,88 @@ TEST(GuiCamera, StartsAtTheFiguresFramingAndZoomsAndOrbitsAboutTheTarget) {
   EXPECT_NEAR((panned.eye - panned.target).norm(), (turned.eye - turned.target).norm(), 1e-9);
   orbit.reset();
   EXPECT_LT((orbit.camera(lo, hi, 1.5).eye - start.eye).norm(), 1e-12);
+}
+
+namespace {
+
+/// Steps `count` more and waits until the window's snapshot shows them (or the run stopped).
+Snapshot stepAndWait(SimRunner& runner, int count) {
+  Snapshot s = latest(runner);
+  const std::uint64_t target = s.steps + std::uint64_t(count);
+  runner.step(count);
+  for (int k = 0; k < 4000 && s.steps < target; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    runner.latest(s);
+  }
+  return latest(runner);
+}
+
+/// The reduced paper scene with a drift limit no integrator meets (10⁻¹²: round-off of a bed
+/// with contacts) and `action` on a failed check.
+std::filesystem::path unreachableDriftScene(const std::string& action) {
+  std::ifstream in(std::filesystem::path(GRANULAR_SOURCE_DIR) /
+                   "tests/scenes/reduced-compaction.toml");
+  std::string scene{std::istreambuf_iterator<char>(in), {}};
+  const std::string output = "[output]\ninterval = 0.01\n";
+  scene.replace(scene.find(output), output.size(),
+                output + "energy_drift_limit = 1e-12\non_failed_check = \"" + action + "\"\n");
+  const auto file =
+      std::filesystem::temp_directory_path() / ("granular-gui-run-checks-" + action + ".toml");
+  std::ofstream(file) << scene;
+  return file;
+}
+
+}  // namespace
+
+// The window's run checks itself at every output interval as `granular run` does, and its status
+// line says what failed, in the words of the check; "stop" pauses the run there and says it once.
+TEST(GuiRunner, AFailedRunCheckIsOnTheStatusLine) {
+  const std::filesystem::path warnScene = unreachableDriftScene("warn"),
+                              stopScene = unreachableDriftScene("stop");
+  {
+    SimRunner runner(warnScene);
+    runner.setStepsPerUpdate(50);
+    const Snapshot s = stepAndWait(runner, 400);  // 0.068 s: six output intervals
+    ASSERT_EQ(s.failedChecks.size(), 1u);
+    EXPECT_NE(s.failedChecks[0].find("energy balance drifted by "), std::string::npos)
+        << s.failedChecks[0];
+    EXPECT_NE(s.failedChecks[0].find("(stage settle)"), std::string::npos) << s.failedChecks[0];
+    EXPECT_EQ(failedCheckStatus(s), "run check failed: " + s.failedChecks[0]);
+  }
+  {
+    SimRunner runner(stopScene);
+    runner.setStepsPerUpdate(50);
+    runner.run();
+    Snapshot s;
+    for (int k = 0; k < 4000 && (s.steps == 0 || s.running); ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      runner.latest(s);
+    }
+    s = latest(runner);
+    EXPECT_FALSE(s.running);
+    ASSERT_EQ(s.failedChecks.size(), 1u);
+    EXPECT_EQ(s.message, s.failedChecks[0]);
+    EXPECT_EQ(failedCheckStatus(s).rfind("run check failed: energy balance drifted by ", 0), 0u);
+    EXPECT_EQ(statusLine(s, 60).find("drifted"), std::string::npos) << statusLine(s, 60);
+  }
+  std::filesystem::remove(warnScene);
+  std::filesystem::remove(stopScene);
+  // The demo bed at its own limit (5 %) passes, also after its stiffness is raised a hundredfold
+  // mid-run: the elastic energy that adds without work is the new material's, not a drift.
+  SimRunner runner(kDemo);
+  runner.setStepsPerUpdate(200);
+  Snapshot s = stepAndWait(runner, 3000);
+  ASSERT_EQ(s.steps, 3000u);
+  ASSERT_GT(s.particleContacts, 0u);
+  EXPECT_TRUE(s.failedChecks.empty()) << s.failedChecks.front();
+  Material stiff = s.material;
+  stiff.youngModulus *= 100;
+  runner.setIntegrator(s.integrator, 0.1 * s.timeStep);  // the contacts' shorter time
+  runner.setMaterial(stiff);
+  s = stepAndWait(runner, 1000);
+  ASSERT_EQ(s.steps, 4000u);
+  EXPECT_EQ(s.material.youngModulus, stiff.youngModulus) << s.message;
+  EXPECT_TRUE(s.failedChecks.empty()) << s.failedChecks.front();
+  EXPECT_EQ(failedCheckStatus(s), "");
+  EXPECT_NE(statusLine(s, 60).find("energy balance"), std::string::npos);
 }

@@ -17,8 +17,12 @@
 #include <string>
 
 #include "granular/checkpoint.hpp"
+#include "granular/render/colormap.hpp"
+#include "granular/render/image.hpp"
+#include "granular/render/inspect.hpp"
 #include "paper_command.hpp"
 #include "paper_figures.hpp"
+#include "paper_run_folder.hpp"
 
 namespace fs = std::filesystem;
 
@@ -69,6 +73,7 @@ TEST(PaperCommand, ReducedScenesWriteReportFiguresAndAParaviewSeriesOfTheCompact
   ASSERT_EQ(status, 0);
 
   const std::string report = readText(options.outDir / "report.md");
+  EXPECT_NE(report.find("## Run checks\n\nEvery bed passed the run checks"), std::string::npos);
   EXPECT_NE(report.find("## Sensitivity: a constant tangential stiffness"), std::string::npos);
   EXPECT_NE(report.find("### Over 2 seeds"), std::string::npos);
   // The sensitivity bed's k_t is Mindlin's at the μ = 0.3 bed's mean reduced radius and overlap
@@ -202,5 +207,180 @@ TEST(PaperCommand, AnUnrelatedFolderIsNotOverwritten) {
   EXPECT_NE(message.find("--force"), std::string::npos) << message;
   EXPECT_EQ(readText(dir / "report.md"), "my own report\n");
   EXPECT_FALSE(fs::exists(dir / "mu0"));
+  fs::remove_all(dir);
+}
+
+// A folder is a paper run by what a paper run writes into its case folders, not by their names:
+// an empty mu0/ beside somebody's report.md is not one, and the refusal names the folder and
+// what to do.
+TEST(PaperCommand, AnEmptyCaseFolderDoesNotMakeAFolderAPaperRun) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_empty_case";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mu0");
+  std::ofstream(dir / "report.md") << "my own report\n";
+  granular::app::PaperOptions options;
+  // Never read: the refusal comes first (without it, the run would stop at the missing scene
+  // with another message, instead of running for minutes and overwriting report.md).
+  options.scenesDir = dir / "no-scenes";
+  options.outDir = dir;
+  options.quiet = true;
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(granular::app::paperCommand(options), 2);
+  testing::internal::GetCapturedStdout();
+  const std::string message = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(message.rfind("error: " + dir.string() + ": ", 0), 0u) << message;
+  EXPECT_NE(message.find("not a `granular paper` run folder"), std::string::npos) << message;
+  EXPECT_NE(message.find("mu0/case.txt"), std::string::npos) << message;
+  EXPECT_NE(message.find("choose another --out"), std::string::npos) << message;
+  EXPECT_NE(message.find("--force"), std::string::npos) << message;
+  EXPECT_EQ(readText(dir / "report.md"), "my own report\n");
+  EXPECT_TRUE(fs::is_empty(dir / "mu0"));
+  fs::remove_all(dir);
+}
+
+// What a paper run leaves in a case folder makes a folder a paper run: case.txt naming its scene
+// (written before stage 1), or the settled checkpoint; an empty or foreign case folder does not.
+TEST(PaperCommand, APaperRunFolderIsRecognisedByItsCaseFiles) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_run_folder";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mu0");
+  EXPECT_FALSE(granular::app::isPaperRunFolder(dir));
+  std::ofstream(dir / "mu0/case.txt") << "my notes on the frictionless case\n";
+  EXPECT_FALSE(granular::app::isPaperRunFolder(dir));
+  std::ofstream(dir / "mu0/case.txt") << "scene = assets/scenes/paper-mu0.toml\nfriction = 0\n";
+  EXPECT_TRUE(granular::app::isPaperRunFolder(dir));
+  fs::remove(dir / "mu0/case.txt");
+  fs::create_directories(dir / "mu03");
+  std::ofstream(dir / "mu03/settled.ckpt") << "a checkpoint";
+  EXPECT_TRUE(granular::app::isPaperRunFolder(dir));
+  fs::remove_all(dir);
+}
+
+namespace {
+
+/// compaction_stress.csv as a paper run writes it: 11 rows over 0.1 s of a bed of 20 kg at rest
+/// (every stress -1000 Pa, the bottom carrying the weight), with `cell` replacing the value of
+/// `column` on data row `row` (the file's line row + 2).
+void writeStressSeries(const fs::path& file, const std::string& column, int row,
+                       const std::string& cell) {
+  const std::vector<std::string> names = {
+      "time_s",          "top_wall_height_m", "R33_top_N",     "R33_bottom_N", "side_mean_R_N",
+      "side_vertical_N", "weight_N",          "balance_error", "s11_eq1_Pa",   "s12_eq1_Pa",
+      "s13_eq1_Pa",      "s21_eq1_Pa",        "s22_eq1_Pa",    "s23_eq1_Pa",   "s31_eq1_Pa",
+      "s32_eq1_Pa",      "s33_eq1_Pa",        "s11_eq2_Pa",    "s22_eq2_Pa",   "s33_eq2_Pa",
+      "z_cm_m",          "s33_cm_term_Pa"};
+  std::ofstream out(file);
+  for (std::size_t c = 0; c < names.size(); ++c) out << (c ? "," : "") << names[c];
+  out << "\n";
+  for (int r = 0; r <= 10; ++r) {
+    for (std::size_t c = 0; c < names.size(); ++c) {
+      const std::string& n = names[c];
+      std::string value = n == "time_s"              ? std::to_string(0.01 * r)
+                          : n == "top_wall_height_m" ? "1"
+                          : n == "R33_top_N"         ? std::to_string(-10 - r)
+                          : n == "R33_bottom_N"      ? std::to_string(196 + r)
+                          : n == "side_mean_R_N"     ? "20"
+                          : n == "weight_N"          ? "196.2"
+                          : n.rfind("s", 0) == 0 && n[1] != n[2] && n[3] == '_' ? "0"
+                          : n.rfind("s", 0) == 0 ? std::to_string(-1000 - 10 * r)
+                                                 : "0";
+      if (n == column && r == row) value = cell;
+      out << (c ? "," : "") << value;
+    }
+    out << "\n";
+  }
+}
+
+}  // namespace
+
+// A number that is not one in a saved series is said, with the file, its line and the column,
+// and the figure leaves the point out (a gap in its line) instead of drawing it without a word.
+TEST(PaperCommand, FiguresSayWhichCellOfTheirDataIsNotANumber) {
+  const fs::path dir = fs::temp_directory_path() / "granular_figures_nan";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "mu0");
+  fs::create_directories(dir / "mu03");
+  writeStressSeries(dir / "mu0/compaction_stress.csv", "R33_top_N", 3, "nan");
+  // The first row carries the weight and starts the bottom's curve: the figure is still drawn.
+  writeStressSeries(dir / "mu03/compaction_stress.csv", "weight_N", 0, "nan");
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(granular::app::figuresCommand(dir), 1);  // most figures have no data here
+  testing::internal::GetCapturedStdout();
+  const std::string message = testing::internal::GetCapturedStderr();
+  const std::string mu0 = (dir / "mu0/compaction_stress.csv").string();
+  EXPECT_NE(message.find("warning: " + mu0 + " line 5, column R33_top_N: nan"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("left out of fig04_forces_mu0.png"), std::string::npos) << message;
+  const std::string mu03 = (dir / "mu03/compaction_stress.csv").string();
+  EXPECT_NE(message.find("warning: " + mu03 + " line 2, column weight_N: nan"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("left out of fig07_forces_mu03.png"), std::string::npos) << message;
+  // Columns the stress figures do not draw are not theirs to report.
+  EXPECT_EQ(message.find("left out of fig05"), std::string::npos) << message;
+  for (const char* figure : {"fig04_forces_mu0.png", "fig05_stresses_mu0.png",
+                             "fig07_forces_mu03.png", "fig08_stresses_mu03.png"}) {
+    EXPECT_GT(fs::file_size(dir / "figures" / figure), 1000u) << figure;
+  }
+  // Without the first row's weight the bottom reaction is still drawn across the axes (1200 px
+  // wide), far more of its colour than the legend's short sample of it.
+  const granular::render::Image forces =
+      granular::render::readPng(dir / "figures/fig07_forces_mu03.png");
+  EXPECT_GT(granular::render::countColorPixels(forces, granular::render::categorical(0), 10), 1000);
+  fs::remove_all(dir);
+}
+
+// The run checks of `granular run` run in every bed of `granular paper`: a drift limit no
+// integrator meets (10⁻¹²) fails in both cases, said on stderr naming the case and listed in
+// report.md, whose targets then are not all met; under on_failed_check = "stop" the command
+// ends with exit 3 naming the case, and writes no report.
+TEST(PaperCommand, AFailedRunCheckIsWarnedOfAndListedInTheReport) {
+  const fs::path dir = fs::temp_directory_path() / "granular_paper_run_checks";
+  fs::remove_all(dir);
+  std::string scene =
+      readText(fs::path(GRANULAR_SOURCE_DIR) / "tests/scenes/reduced-compaction.toml");
+  const std::string output = "[output]\ninterval = 0.01\n";
+  ASSERT_NE(scene.find(output), std::string::npos);
+  scene.replace(scene.find(output), output.size(), output + "energy_drift_limit = 1e-12\n");
+  for (const char* action : {"warn", "stop"}) {
+    SCOPED_TRACE(action);
+    const fs::path scenes = dir / action / "scenes";
+    fs::create_directories(scenes);
+    // Frictionless both: no sensitivity study, whose beds would only repeat the finding.
+    for (const char* name : {"paper-mu0.toml", "paper-mu03.toml"}) {
+      std::ofstream(scenes / name) << scene << "on_failed_check = \"" << action << "\"\n";
+    }
+    granular::app::PaperOptions options;
+    options.scenesDir = scenes;
+    options.outDir = dir / action / "out";
+    options.quiet = true;
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int status = granular::app::paperCommand(options);
+    testing::internal::GetCapturedStdout();
+    const std::string message = testing::internal::GetCapturedStderr();
+    if (std::string(action) == "stop") {
+      EXPECT_EQ(status, 3) << message;
+      EXPECT_NE(message.find("error: case mu0: energy balance drifted by "), std::string::npos)
+          << message;
+      EXPECT_FALSE(fs::exists(options.outDir / "report.md"));
+      continue;
+    }
+    ASSERT_EQ(status, 0) << message;
+    for (const char* name : {"mu0", "mu03"}) {
+      EXPECT_NE(message.find(std::string("warning: case ") + name + ": energy balance drifted by "),
+                std::string::npos)
+          << message;
+    }
+    const std::string report = readText(options.outDir / "report.md");
+    EXPECT_NE(report.find("## Run checks\n\n**Failed**"), std::string::npos) << report;
+    EXPECT_NE(report.find("- `mu0`: energy balance drifted by "), std::string::npos) << report;
+    EXPECT_NE(report.find("- `mu03`: energy balance drifted by "), std::string::npos) << report;
+    EXPECT_NE(report.find("- [ ] run checks (energy balance, particles in the box) passed in every "
+                          "bed — 2 failed (see Run checks) — **not met**"),
+              std::string::npos)
+        << report;
+  }
   fs::remove_all(dir);
 }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "calibrate_command.hpp"
 #include "granular/engine_studies.hpp"
 #include "granular/run_checks.hpp"
 #include "granular_process.hpp"
@@ -207,4 +208,47 @@ TEST(EnergyRunChecks, RunCommandWarnsOnStderrAndInTheSummaryOrStopsWithExitThree
   EXPECT_EQ(lid.status, 3) << lid.stderrText;
   EXPECT_TRUE(contains(lid.stderrText, "(stage press)")) << lid.stderrText;
   EXPECT_TRUE(contains(lid.stderrText, "is outside the box")) << lid.stderrText;
+}
+
+// `granular calibrate-box` checks each settling as `granular run` does: a drift limit no
+// integrator meets (10⁻¹²) is a warning on stderr naming the box and a line of the report
+// under "Run checks"; under on_failed_check = "stop" the command ends with exit 3, naming the
+// box, and writes no report.
+TEST(EnergyRunChecks, CalibrateBoxWarnsOnStderrAndInItsReportOrStopsWithExitThree) {
+  const fs::path dir = workFolder("calibrate");
+  std::string scene = granular::testing::readFile(fs::path(GRANULAR_SOURCE_DIR) /
+                                                  "tests/scenes/reduced-compaction.toml");
+  const std::string output = "[output]\ninterval = 0.01\n";
+  ASSERT_TRUE(contains(scene, output));
+  scene.replace(scene.find(output), output.size(), output + "energy_drift_limit = 1e-12\n");
+  for (const char* action : {"warn", "stop"}) {
+    SCOPED_TRACE(action);
+    const fs::path file = dir / (std::string(action) + ".toml");
+    std::ofstream(file) << scene << "on_failed_check = \"" << action << "\"\n";
+    app::CalibrateOptions options;
+    options.scene = file;
+    options.sides = {0.3};
+    options.targetHeight = 1.0;
+    options.report = dir / (std::string(action) + ".md");
+    options.quiet = true;
+    ::testing::internal::CaptureStdout();
+    ::testing::internal::CaptureStderr();
+    const int status = app::calibrateCommand(options);
+    ::testing::internal::GetCapturedStdout();
+    const std::string message = ::testing::internal::GetCapturedStderr();
+    if (std::string(action) == "stop") {
+      EXPECT_EQ(status, 3) << message;
+      EXPECT_TRUE(contains(message, "error: box side 0.3 m: energy balance drifted by "))
+          << message;
+      EXPECT_FALSE(fs::exists(options.report));
+      continue;
+    }
+    ASSERT_EQ(status, 0) << message;
+    EXPECT_TRUE(contains(message, "warning: box side 0.3 m: energy balance drifted by "))
+        << message;
+    const std::string report = granular::testing::readFile(options.report);
+    EXPECT_TRUE(contains(report, "Run checks (energy balance, particles in the box): **failed**"))
+        << report;
+    EXPECT_TRUE(contains(report, "\n- box side 0.3 m: energy balance drifted by ")) << report;
+  }
 }

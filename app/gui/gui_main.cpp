@@ -15,18 +15,22 @@
 #include <filesystem>
 #include <future>
 #include <iostream>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "controls_layout.hpp"
 #include "figure_export.hpp"
 #include "granular/render/colormap.hpp"
+#include "granular/render/font.hpp"
 #include "granular/render/image.hpp"
 #include "granular/render/particle_view.hpp"
 #include "gui_options.hpp"
 #include "gui_script.hpp"
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
+#include "status_line.hpp"
 
 namespace fs = std::filesystem;
 using namespace granular;
@@ -88,7 +92,9 @@ struct UiState {
   bool automaticStep = false;
   double timeStep = 0;
   int stepsPerUpdate = 20;
-  bool synced = false;  ///< edits initialised from the run
+  bool synced = false;                        ///< edits initialised from the run
+  std::set<std::string> cutOffLabels;         ///< labels that ran past the panel's edge in a frame
+  std::set<std::string> labelsWithoutGlyphs;  ///< labels with a character the font lacks
 };
 
 const char* kScenes[] = {"paper-mu0.toml", "paper-mu03.toml", "demo.toml"};
@@ -107,12 +113,74 @@ void startFigureExport(UiState& ui, const Snapshot& snap) {
   });
 }
 
-void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float width,
-                   float height) {
+/// ImGui's own font has no Greek: the parameters' symbols (μ, ν, γn) would show as '?'. Their
+/// glyphs are merged in from DejaVu Sans, the figures' font, where it is installed.
+void addGreekGlyphs() {
+  ImGuiIO& io = ImGui::GetIO();
+  io.Fonts->AddFontDefault();
+  const fs::path file = render::Font::file(render::FontWeight::Regular);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  static const ImWchar kGreek[] = {0x0370, 0x03FF, 0};
+  ImFontConfig merge;
+  merge.MergeMode = true;
+  io.Fonts->AddFontFromFileTTF(file.c_str(), 13.0f, &merge, kGreek);
+}
+
+/// The label of a material parameter's field: key, symbol and unit ("youngs_modulus E [Pa]").
+std::string materialLabel(const ParameterSpec& p) {
+  return std::string(p.key) + " " + std::string(p.symbol) +
+         (p.unit == "-" ? std::string() : " [" + std::string(p.unit) + "]");
+}
+
+/// Every label the controls panel draws beside a field (the density is not offered: the
+/// particles' masses fix it).
+std::vector<std::string> fieldLabels() {
+  std::vector<std::string> labels = {"steps/update", "top wall v [m/s]", "integrator", "dt [s]"};
+  for (const ParameterSpec& p : materialParameters()) {
+    if (p.term != Body::name) labels.push_back(materialLabel(p));
+  }
+  return labels;
+}
+
+/// The controls panel at least 340 px wide, its fields at least 130 px (a scene's name in the
+/// combo), and wide enough for the widest label beside a field, as the current font draws it.
+ControlsLayout currentControlsLayout() {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  float widest = 0;
+  for (const std::string& label : fieldLabels()) {
+    widest = std::max(widest, ImGui::CalcTextSize(label.c_str()).x);
+  }
+  return controlsLayout(widest, 130, 340,
+                        {style.WindowPadding.x, style.ItemInnerSpacing.x, style.ScrollbarSize});
+}
+
+/// The labels beside fields with a character the current font has no glyph for (drawn as '?').
+std::set<std::string> labelsWithoutGlyphs() {
+  std::set<std::string> found;
+  for (const std::string& label : fieldLabels()) {
+    for (const char32_t c : render::decodeUtf8(label)) {
+      if (c > 0xFFFF || !ImGui::GetFont()->FindGlyphNoFallback(ImWchar(c))) found.insert(label);
+    }
+  }
+  return found;
+}
+
+/// Notes `label` when the widget just drawn (its field and the label beside it) runs past the
+/// panel's content edge, where ImGui cuts it off.
+void noteIfCutOff(UiState& ui, const std::string& label) {
+  const float edge = ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x;
+  if (ImGui::GetItemRectMax().x > edge + 0.5f) ui.cutOffLabels.insert(label);
+}
+
+void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui,
+                   const ControlsLayout& layout, float height) {
   ImGui::SetNextWindowPos(ImVec2(0, 0));
-  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::SetNextWindowSize(ImVec2(layout.panelWidth, height));
   ImGui::Begin("Controls", nullptr,
-               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_AlwaysVerticalScrollbar);
+  ImGui::PushItemWidth(layout.fieldWidth);
   if (!ui.synced) {
     ui.material = snap.material;
     ui.topWallVelocity = snap.topWallVelocity;
@@ -123,12 +191,17 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
     ui.synced = true;
   }
   ImGui::TextWrapped("Scene: %s", fs::path(snap.sceneFile).filename().c_str());
+  // Fields without a label take the line, up to the button beside them.
+  const float besideButton = ImGui::CalcTextSize("Load file").x +
+                             2 * ImGui::GetStyle().FramePadding.x + ImGui::GetStyle().ItemSpacing.x;
+  ImGui::SetNextItemWidth(-besideButton);
   ImGui::Combo("##scene", &ui.sceneChoice, kScenes, IM_ARRAYSIZE(kScenes));
   ImGui::SameLine();
   if (ImGui::Button("Load")) {
     runner.loadScene(fs::path(GRANULAR_SCENES_DIR) / kScenes[ui.sceneChoice]);
     ui.synced = false;
   }
+  ImGui::SetNextItemWidth(-besideButton);
   ImGui::InputTextWithHint("##file", "or a scene file path", ui.sceneFile, sizeof ui.sceneFile);
   ImGui::SameLine();
   if (ImGui::Button("Load file") && ui.sceneFile[0]) {
@@ -153,6 +226,7 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   if (ImGui::SliderInt("steps/update", &ui.stepsPerUpdate, 1, 500)) {
     runner.setStepsPerUpdate(ui.stepsPerUpdate);
   }
+  noteIfCutOff(ui, "steps/update");
   ImGui::Separator();
   ImGui::Text("Material (applied on Enter)");
   bool edited = false;
@@ -160,8 +234,7 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   // particles' masses, so it is not offered).
   for (const ParameterSpec& p : materialParameters()) {
     if (p.term == Body::name) continue;
-    const std::string label = std::string(p.key) + " " + std::string(p.symbol) +
-                              (p.unit == "-" ? std::string() : " [" + std::string(p.unit) + "]");
+    const std::string label = materialLabel(p);
     double value = p.get(ui.material);
     if (p.kind == ParameterKind::Number) {
       ImGui::InputDouble(label.c_str(), &value, 0.0, 0.0, "%.4g");
@@ -178,16 +251,22 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
       edited |= ImGui::Combo(label.c_str(), &at, names.data(), int(names.size()));
       value = at;
     }
+    noteIfCutOff(ui, label);
     p.set(ui.material, value);
   }
   if (edited) runner.setMaterial(ui.material);
   ImGui::InputDouble("top wall v [m/s]", &ui.topWallVelocity, 0.0, 0.0, "%.4f");
+  noteIfCutOff(ui, "top wall v [m/s]");
   if (ImGui::IsItemDeactivatedAfterEdit()) runner.setTopWallVelocity(ui.topWallVelocity);
   ImGui::Separator();
   const char* integrators[] = {"gear5", "verlet"};
   ImGui::Combo("integrator", &ui.integrator, integrators, 2);
+  noteIfCutOff(ui, "integrator");
   ImGui::Checkbox("dt auto", &ui.automaticStep);
-  if (!ui.automaticStep) ImGui::InputDouble("dt [s]", &ui.timeStep, 0.0, 0.0, "%.3e");
+  if (!ui.automaticStep) {
+    ImGui::InputDouble("dt [s]", &ui.timeStep, 0.0, 0.0, "%.3e");
+    noteIfCutOff(ui, "dt [s]");
+  }
   if (snap.automaticStep) {
     ImGui::Text("dt %.3e s (%.3e to %.3e so far)", snap.timeStep, snap.smallestStep,
                 snap.largestStep);
@@ -211,6 +290,7 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
   if (ImGui::Button("Reset view")) ui.orbit.reset();
   ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom");
   ImGui::Separator();
+  ImGui::SetNextItemWidth(-FLT_MIN);
   ImGui::InputText("##ckpt", ui.checkpoint, sizeof ui.checkpoint);
   if (ImGui::Button("Save checkpoint")) runner.saveCheckpoint(ui.checkpoint);
   ImGui::SameLine();
@@ -218,10 +298,12 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
     runner.loadCheckpoint(ui.checkpoint);
     ui.synced = false;
   }
+  ImGui::SetNextItemWidth(-FLT_MIN);
   ImGui::InputText("##png", ui.exportPath, sizeof ui.exportPath);
   if (ImGui::Button("Save window")) ui.screenshotRequest = ui.exportPath;
   ImGui::SameLine();
   if (ImGui::Button("Save 3-D view")) ui.viewRequest = ui.exportPath;
+  ImGui::SetNextItemWidth(-FLT_MIN);
   ImGui::InputText("##figures", ui.figureFolder, sizeof ui.figureFolder);
   ImGui::BeginDisabled(ui.figureExport.valid());
   if (ImGui::Button("Export figures")) startFigureExport(ui, snap);
@@ -231,6 +313,7 @@ void controlsPanel(SimRunner& runner, const Snapshot& snap, UiState& ui, float w
     ui.figureMessage = ui.figureExport.get();
   }
   if (!ui.figureMessage.empty()) ImGui::TextWrapped("%s", ui.figureMessage.c_str());
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 
@@ -276,12 +359,14 @@ void statusBar(const Snapshot& snap, double framesPerSecond, float y, float widt
   ImGui::Begin(
       "Status", nullptr,
       ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
-  ImGui::Text(
-      "t = %.4f s | stage %d | %s | %.0f steps/s | %zu contacts + %zu wall | energy balance "
-      "%+.2e | %.0f frames/s%s%s",
-      snap.time, snap.stage, snap.running ? "running" : "paused", snap.stepsPerSecond,
-      snap.particleContacts, snap.wallContacts, snap.energyBalanceError, framesPerSecond,
-      snap.message.empty() ? "" : " | ", snap.message.c_str());
+  ImGui::TextUnformatted(statusLine(snap, framesPerSecond).c_str());
+  // A failed run check in red after it, in full on hover (a long one runs past the window).
+  const std::string failed = failedCheckStatus(snap);
+  if (!failed.empty()) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "| %s", failed.c_str());
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", failed.c_str());
+  }
   ImGui::End();
 }
 
@@ -462,6 +547,7 @@ int runWindow(const GuiOptions& options) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working folder
+    addGreekGlyphs();
     ImGui::StyleColorsDark();
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330 core");
@@ -490,10 +576,12 @@ int runWindow(const GuiOptions& options) {
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();
-      const float panelWidth = 340, statusHeight = 30, plotsHeight = 250;
+      if (frame == 0) ui.labelsWithoutGlyphs = labelsWithoutGlyphs();
+      const ControlsLayout layout = currentControlsLayout();
+      const float panelWidth = layout.panelWidth, statusHeight = 30, plotsHeight = 250;
       const float viewX = panelWidth, viewW = float(winWidth) - panelWidth;
       const float viewH = float(winHeight) - statusHeight - plotsHeight;
-      controlsPanel(runner, snap, ui, panelWidth, float(winHeight) - statusHeight);
+      controlsPanel(runner, snap, ui, layout, float(winHeight) - statusHeight);
       plotsPanel(snap, viewX, viewH, viewW, plotsHeight);
       statusBar(snap, framesPerSecond, float(winHeight) - statusHeight, float(winWidth),
                 statusHeight);
@@ -581,6 +669,23 @@ int runWindow(const GuiOptions& options) {
         frame, meanFramesPerSecond, snap.stage, snap.time,
         static_cast<unsigned long long>(snap.steps), snap.material.friction, snap.particleContacts,
         snap.message.empty() ? "" : "; last message: ", snap.message.c_str());
+    // Labels that do not show whole: said, for the window's test.
+    auto list = [](const std::set<std::string>& labels) {
+      std::string text;
+      for (const std::string& l : labels) text += (text.empty() ? "" : ", ") + l;
+      return text;
+    };
+    if (!ui.cutOffLabels.empty()) {
+      int width = 0, height = 0;
+      glfwGetWindowSize(window, &width, &height);
+      std::fprintf(stderr, "granular-gui: labels cut off in a window of %d x %d: %s\n", width,
+                   height, list(ui.cutOffLabels).c_str());
+    }
+    if (!ui.labelsWithoutGlyphs.empty()) {
+      std::fprintf(stderr,
+                   "granular-gui: labels with characters the font lacks (drawn as '?'): %s\n",
+                   list(ui.labelsWithoutGlyphs).c_str());
+    }
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();

@@ -76,6 +76,34 @@ void SimRunner::build(const std::filesystem::path& scene) {
   series_.clear();
   lastSample_ = -1;
   message_.clear();
+  failedChecks_.clear();
+  restartChecks();
+}
+
+void SimRunner::restartChecks() {
+  checks_.emplace(scene_.output.checks, scene_.box, sim_->energy().total());
+  lastCheck_ = sim_->time();
+}
+
+void SimRunner::checkAtSample() {
+  const double t = sim_->time();
+  // A stage that resets the clock starts the intervals again.
+  if (t < lastCheck_) lastCheck_ = t;
+  if (t - lastCheck_ < scene_.output.interval) return;
+  lastCheck_ = t;
+  const std::string stage = std::size_t(stage_) <= scene_.stages.size()
+                                ? scene_.stages[std::size_t(stage_) - 1].name
+                                : "stage " + std::to_string(stage_);
+  try {
+    for (std::string& found : checks_->atSample(*sim_, stage)) {
+      failedChecks_.push_back(std::move(found));
+    }
+  } catch (const RunCheckError& e) {  // on_failed_check = "stop": the run stops here
+    running_ = false;
+    pendingSteps_ = 0;
+    failedChecks_.push_back(e.what());
+    message_ = e.what();
+  }
 }
 
 void SimRunner::send(std::function<void()> command) {
@@ -128,7 +156,12 @@ void SimRunner::setStepsPerUpdate(int steps) {
   send([this, steps] { stepsPerUpdate_ = std::clamp(steps, 1, 100000); });
 }
 void SimRunner::setMaterial(const Material& material) {
-  send([this, material] { sim_->setMaterial(material); });
+  send([this, material] {
+    sim_->setMaterial(material);
+    // New stiffnesses change the elastic energy stored without work: the balance is measured
+    // from the state with the new material.
+    restartChecks();
+  });
 }
 void SimRunner::setTopWallVelocity(double velocity) {
   send([this, velocity] {
@@ -181,6 +214,8 @@ void SimRunner::loadCheckpoint(const std::filesystem::path& file) {
     pendingSteps_ = 0;
     series_.clear();
     lastSample_ = -1;
+    failedChecks_.clear();
+    restartChecks();
     message_ = "loaded " + file.string();
   });
 }
@@ -225,6 +260,7 @@ void SimRunner::loop() {
       const auto start = Clock::now();
       try {
         sim_->run(std::uint64_t(n));
+        checkAtSample();
       } catch (const std::exception& e) {  // a broken state: stop, say why, keep the window
         running_ = false;
         message_ = e.what();
@@ -295,6 +331,7 @@ void SimRunner::publish() {
   s.topWallVelocity = topWallVelocity_;
   s.stepsPerUpdate = stepsPerUpdate_;
   s.message = message_;
+  s.failedChecks = failedChecks_;
 
   // The plots: a sample at most every 1/400 of a simulated second.
   if (lastSample_ < 0 || s.time - lastSample_ >= 2.5e-3 || s.time < lastSample_) {

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "granular/run_checks.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
 
@@ -64,6 +65,10 @@ struct Snapshot {
   int stepsPerUpdate = 20;
   LiveSeries series;
   std::string message;  ///< the last refusal or error, for the status line
+  /// What the run checks (run_checks.hpp: the energy balance against the scene's
+  /// output.energy_drift_limit, particles outside the box) found since the start or the last
+  /// load, oldest first; each check is reported once.
+  std::vector<std::string> failedChecks;
 };
 
 class SimRunner {
@@ -103,6 +108,10 @@ class SimRunner {
   void loop();
   void publish();
   void build(const std::filesystem::path& scene);
+  /// New run checks measuring the energy balance from the state as it is now.
+  void restartChecks();
+  /// The run checks at each output interval of simulated time (scene.output.interval).
+  void checkAtSample();
 
   mutable std::mutex mutex_;
   std::condition_variable wake_, done_;
@@ -121,6 +130,9 @@ class SimRunner {
   int stage_ = 1;
   double topWallVelocity_ = 0;
   double energyStart_ = 0, energyScale_ = 0;
+  std::optional<RunChecks> checks_;
+  double lastCheck_ = 0;  ///< simulated time of the last check [s]
+  std::vector<std::string> failedChecks_;
   std::chrono::steady_clock::time_point lastPublish_;
   LiveSeries series_;
   double lastSample_ = -1;

@@ -17,11 +17,13 @@
 #include "csv_output.hpp"
 #include "granular/checkpoint.hpp"
 #include "granular/compaction.hpp"
+#include "granular/run_checks.hpp"
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stress.hpp"
 #include "paper_fields.hpp"
 #include "paper_figures.hpp"
 #include "paper_report.hpp"
+#include "paper_run_folder.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
 #include "stop_signals.hpp"
@@ -209,6 +211,25 @@ BedContacts bedContacts(const Simulation& sim) {
   return bed;
 }
 
+/// Both stages of the case in `folder`. A failed run check (energy balance, a particle outside
+/// the box) is a warning on stderr naming the case, kept in the result for the report; under
+/// on_failed_check = "stop" it ends the command (exit 3), naming the case.
+CompactionResult checkedCompaction(const Scene& scene, const CompactionOptions& run,
+                                   const std::string& folder, ProgressReporter& progress) {
+  CompactionResult result;
+  try {
+    result = runCompaction(scene, run);
+  } catch (const RunCheckError& e) {
+    progress.finish();
+    throw RunCheckError("case " + folder + ": " + e.what());
+  }
+  progress.finish();
+  for (const std::string& failed : result.failedChecks) {
+    std::cerr << "warning: case " << folder << ": " << failed << "\n";
+  }
+  return result;
+}
+
 /// The scene of a case: the paper's, with the constant tangential law at `constantStiffness`
 /// when positive and the grid's seed replaced when `seed` is given.
 Scene caseScene(const std::filesystem::path& sceneFile, double constantStiffness,
@@ -314,8 +335,7 @@ CaseOutcome runCase(const PaperReference& ref, const std::string& folder, double
                          ? std::string(" (stage 1 starts again)")
                          : " (stage 1 is restored from " + checkpoint.string() + ")"));
   };
-  outcome.result = runCompaction(scene, run);
-  progress.finish();
+  outcome.result = checkedCompaction(scene, run, folder, progress);
   if (!outcome.result.checkpointRefused.empty()) {
     std::cout << "settled again: the settled checkpoint was not used: "
               << outcome.result.checkpointRefused << "\n";
@@ -391,8 +411,7 @@ CaseOutcome runSeed(const PaperReference& ref, const Scene& scene, const std::fi
         "the sensitivity runs are incomplete; run the same command again (the beds "
         "settled so far are restored)");
   };
-  outcome.result = runCompaction(scene, run);
-  progress.finish();
+  outcome.result = checkedCompaction(scene, run, outcome.folder, progress);
   outcome.wallSeconds = secondsSince(start);
   return outcome;
 }
@@ -441,28 +460,10 @@ SensitivityOutcome runSensitivity(const CaseOutcome& mindlin, const PaperOptions
 
 // 3. Both cases and the report --------------------------------------------------------------------
 
-/// A folder `granular paper` may write into: new, empty, or one it wrote before (holding a
-/// case folder). Anything else is somebody's other work, kept unless --force.
-void checkOutputFolder(const PaperOptions& options) {
-  std::error_code ec;
-  if (options.force || !std::filesystem::exists(options.outDir, ec)) return;
-  if (!std::filesystem::is_directory(options.outDir, ec)) {
-    throw IoError(options.outDir.string() + ": --out must be a folder; this is a file");
-  }
-  if (std::filesystem::is_empty(options.outDir, ec)) return;
-  for (const PaperReference& ref : kPaperCases) {
-    if (std::filesystem::is_directory(options.outDir / ref.name, ec)) return;
-  }
-  throw ConfigError(options.outDir.string() +
-                    ": not empty and not a `granular paper` run folder (no mu0/ or mu03/): "
-                    "its report.md and figures/ would be overwritten; choose another --out or "
-                    "add --force");
-}
-
 int runPaper(const PaperOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   catchStopSignals();
-  checkOutputFolder(options);
+  checkPaperOutputFolder(options.outDir, options.force);
   createOutputFolder(options.outDir);
   ProgressReporter progress(!options.quiet);
   if (options.sensitivity && options.seeds < 2) {
@@ -481,6 +482,7 @@ int runPaper(const PaperOptions& options) {
     for (const std::string& missing : set.missing) {
       std::cerr << "warning: figure not drawn: " << missing << "\n";
     }
+    for (const std::string& gap : set.gaps) std::cerr << "warning: " << gap << "\n";
     figures = std::move(set.written);
   } catch (const Interrupted&) {
     throw;

@@ -107,20 +107,42 @@ PlotSpec basePlot(const std::string& title, const std::string& yLabel) {
   return p;
 }
 
+/// The columns each time plot draws, whose cells are checked for numbers before it is drawn.
+const std::vector<std::string> kForceColumns = {"time_s", "R33_bottom_N", "R33_top_N",
+                                                "side_mean_R_N", "weight_N"};
+const std::vector<std::string> kStressColumns = {
+    "time_s", "s11_eq1_Pa", "s22_eq1_Pa", "s33_eq1_Pa", "s11_eq2_Pa", "s22_eq2_Pa", "s33_eq2_Pa"};
+const std::vector<std::string> kSettleColumns = {"time_s", "kinetic_J"};
+
+/// The largest finite value; nullopt when there is none.
+std::optional<double> finiteMax(const std::vector<double>& values) {
+  std::optional<double> top;
+  for (double v : values) {
+    if (std::isfinite(v)) top = top ? std::max(*top, v) : v;
+  }
+  return top;
+}
+
 /// Figs. 4 and 7: vertical reactions of top and bottom walls, the weight, the mean side wall.
+/// A cell that is not a number is a gap in its line (the caller has said so).
 Image forcesFigure(const CsvTable& t, const std::string& label) {
   const auto& time = t.column("time_s");
   PlotSpec p = basePlot("Forces vs time, stage 2 (" + label + ")", "force [N]");
   p.series.push_back(line(time, t.column("R33_bottom_N"), 0, "R₃₃ bottom", 2.0));
   p.series.push_back(line(time, t.column("R33_top_N"), 1, "R₃₃ top", 2.0));
   p.series.push_back(line(time, t.column("side_mean_R_N"), 2, "¼ Σ |R| side walls", 2.0));
-  render::ReferenceLine weight;
-  weight.y = t.column("weight_N").front();
-  weight.label = "weight";
-  p.references.push_back(weight);
-  p.yRange = render::AxisRange{
-      0.0, 1.15 * std::max(weight.y, *std::max_element(t.column("R33_bottom_N").begin(),
-                                                       t.column("R33_bottom_N").end()))};
+  double top = finiteMax(t.column("R33_bottom_N")).value_or(0.0);
+  // The weight is the same in every row: the first one that is a number.
+  for (double w : t.column("weight_N")) {
+    if (!std::isfinite(w)) continue;
+    render::ReferenceLine weight;
+    weight.y = w;
+    weight.label = "weight";
+    p.references.push_back(weight);
+    top = std::max(top, w);
+    break;
+  }
+  if (top > 0) p.yRange = render::AxisRange{0.0, 1.15 * top};
   return render::drawPlot(p);
 }
 
@@ -211,6 +233,17 @@ Image trajectoryFigure(const CsvTable& field, const CsvTable& lines, const std::
   return render::drawContour(spec);
 }
 
+/// The columns of profiles.csv that profileFigure draws.
+std::vector<std::string> profileColumns(bool frictional) {
+  return {"z_m",
+          "s33_rep_centre_Pa",
+          "s33_cg_centre_c0.05_Pa",
+          "s33_cg_centre_c0.1_Pa",
+          "s33_cg_centre_c0.15_Pa",
+          "s33_cg_section_mean_Pa",
+          frictional ? "janssen_Pa" : "hydrostatic_Pa"};
+}
+
 /// σ33 against height: the centre line (representative spheres; coarse-grained at three widths),
 /// the cross-section mean, and Janssen's law or the hydrostatic load.
 Image profileFigure(const CsvTable& t, const std::string& label, bool frictional) {
@@ -249,6 +282,17 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
   const std::filesystem::path out = runDir / "figures";
   FigureSet set;
   std::optional<render::FigureRenderer> renderer;
+  // A data file of a line plot, read, with every cell of `columns` that is not a number said:
+  // the plot leaves it out.
+  auto plotted = [&](const std::filesystem::path& file, const std::vector<std::string>& columns,
+                     const std::string& figure) {
+    CsvTable table = readCsv(file);
+    for (const std::string& cell : nonFiniteCells(table, columns)) {
+      set.gaps.push_back(file.string() + " " + cell + "; left out of " + figure +
+                         " (a gap in its line)");
+    }
+    return table;
+  };
   // Each figure is drawn if its inputs exist, and listed as missing with the first absent one
   // otherwise; the names do not depend on what else exists.
   auto draw = [&](const std::string& name, const std::string& caption,
@@ -290,16 +334,21 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
            return particleFigure(*renderer, dir, "settled_particles.csv", "force_sum_N",
                                  "Settled assembly, end of stage 1 (" + label + ")", "Σ|F_ij| [N]");
          });
-    draw("fig0" + n4 + "_forces_" + c.name + ".png",
-         "Fig. " + n4 + ": wall reactions and weight vs time, stage 2, " + label,
-         {rel / "compaction_stress.csv"},
-         [&] { return forcesFigure(readCsv(dir / "compaction_stress.csv"), label); });
-    draw("fig0" + n5 + "_stresses_" + c.name + ".png",
-         "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + label,
-         {rel / "compaction_stress.csv"},
-         [&] { return stressFigure(readCsv(dir / "compaction_stress.csv"), label); });
+    const std::string forces = "fig0" + n4 + "_forces_" + c.name + ".png";
+    draw(forces, "Fig. " + n4 + ": wall reactions and weight vs time, stage 2, " + label,
+         {rel / "compaction_stress.csv"}, [&] {
+           return forcesFigure(plotted(dir / "compaction_stress.csv", kForceColumns, forces),
+                               label);
+         });
+    const std::string stresses = "fig0" + n5 + "_stresses_" + c.name + ".png";
+    draw(stresses, "Fig. " + n5 + ": σ11, σ22, σ33 vs time, Eq. (1) thin, Eq. (2) bold, " + label,
+         {rel / "compaction_stress.csv"}, [&] {
+           return stressFigure(plotted(dir / "compaction_stress.csv", kStressColumns, stresses),
+                               label);
+         });
     if (std::filesystem::exists(dir / "settle_kinetic.csv")) {
-      settle.emplace_back(label, readCsv(dir / "settle_kinetic.csv"));
+      settle.emplace_back(
+          label, plotted(dir / "settle_kinetic.csv", kSettleColumns, "settle_kinetic_energy.png"));
       if (std::filesystem::exists(dir / "settle_summary.txt")) {
         const auto kv = readKeyValues(dir / "settle_summary.txt");
         threshold = numberAt(kv, "threshold_J", dir / "settle_summary.txt");
@@ -344,11 +393,15 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
            return sigma33Figure(readCsv(fields / "midsection.csv"), "s33_cg_Pa",
                                 "σ₃₃ coarse-grained (c = 0.1 m), end of stage 1 (" + label + ")");
          });
-    draw("profile_sigma33" + suffix + ".png",
+    const std::string profile = "profile_sigma33" + suffix + ".png";
+    draw(profile,
          "Beyond the paper: σ33 against height, centre line and cross-section mean, against " +
              std::string(frictional ? "Janssen's law" : "the hydrostatic load") + ", " + label,
-         {rel / "profiles.csv"},
-         [&] { return profileFigure(readCsv(fields / "profiles.csv"), label, frictional); });
+         {rel / "profiles.csv"}, [&] {
+           return profileFigure(
+               plotted(fields / "profiles.csv", profileColumns(frictional), profile), label,
+               frictional);
+         });
   }
   // The sensitivity study's bed (report.md, "Sensitivity"): the μ = 0.3 case with a constant
   // k_t, Figs. 9 and 10 again. A run has it unless its μ = 0.3 case had no friction.
@@ -398,6 +451,7 @@ int figuresCommand(const std::filesystem::path& runDir) {
       throw IoError(runDir.string() + ": not a folder (give the --out folder of `granular paper`)");
     }
     const FigureSet set = drawPaperFigures(runDir);
+    for (const std::string& gap : set.gaps) std::cerr << "warning: " << gap << "\n";
     if (set.written.empty()) {
       throw IoError(runDir.string() +
                     ": nothing to draw: not the --out folder of `granular paper` (it needs mu0/ "

@@ -19,6 +19,10 @@ struct FigureFile {
 struct FigureSet {
   std::vector<FigureFile> written;   ///< in the paper's order
   std::vector<std::string> missing;  ///< "fig02_falling_mu0.png (mu0/falling_t1.csv is missing)"
+  /// Cells of a line plot's data that are not numbers, each a gap in the figure's line:
+  /// "RUN/mu0/compaction_stress.csv line 5, column R33_top_N: nan; left out of
+  /// fig04_forces_mu0.png (a gap in its line)"
+  std::vector<std::string> gaps;
 };
 
 /// Draws into RUN_DIR/figures/ every figure whose data exist (18 for a whole run: 16 of the two
@@ -28,7 +32,8 @@ struct FigureSet {
 FigureSet drawPaperFigures(const std::filesystem::path& runDir);
 
 /// `granular figures RUN_DIR`: re-draws the figures of a run. Exit status 1 when a figure cannot
-/// be drawn (every missing input is named) or nothing is there to draw.
+/// be drawn (every missing input is named) or nothing is there to draw; a cell of a plot's data
+/// that is not a number is a warning on stderr naming the file, line and column.
 int figuresCommand(const std::filesystem::path& runDir);
 
 }  // namespace granular::app

@@ -8,6 +8,7 @@
 
 #include "granular/checkpoint.hpp"
 #include "granular/error.hpp"
+#include "granular/run_checks.hpp"
 
 namespace granular {
 namespace {
@@ -99,10 +100,18 @@ CompactionResult runCompaction(const Scene& scene, const CompactionOptions& opti
   }
   Simulation sim = restored ? std::move(*restored) : buildSimulation(scene);
   if (options.onStart) options.onStart(sim);
+  // The run checks itself at every sample of both stages, as `granular run` does.
+  RunChecks checks(scene.output.checks, scene.box, sim.energy().total());
+  auto check = [&](const Simulation& s, const std::string& stage) {
+    for (std::string& found : checks.atSample(s, stage)) {
+      result.failedChecks.push_back(std::move(found));
+    }
+  };
   if (!result.settleRestored) {
     StageObserver observer;
     observer.onSample = [&](const Simulation& s) {
       result.settleHistory.push_back({s.time(), s.kineticEnergy()});
+      check(s, settleStage.name);
       if (options.onSample) options.onSample(s, settleStage.name);
     };
     observer.onProgress = options.onProgress;
@@ -128,6 +137,7 @@ CompactionResult runCompaction(const Scene& scene, const CompactionOptions& opti
   observer.onSample = [&](const Simulation& s) {
     if (!average) average.emplace(s);  // the first sample, at the start: instantaneous
     result.samples.push_back({s.time(), average->close(s)});
+    check(s, compactStage.name);
     if (options.onSample) options.onSample(s, compactStage.name);
   };
   const double dt = scene.simulation.timeStep;

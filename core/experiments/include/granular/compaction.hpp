@@ -65,10 +65,15 @@ struct CompactionResult {
   double strain = 0;       ///< (finalHeight - settledHeight) / settledHeight [-]
   std::size_t particles = 0;
   double totalMass = 0;  ///< [kg]
+  /// What the run checks (run_checks.hpp: the energy balance, particles outside the box) found
+  /// at the samples of both stages, each check once, in order; empty when every check passed.
+  /// A restored stage 1 is checked from the state restored.
+  std::vector<std::string> failedChecks;
 };
 
 /// Runs both stages of `scene`, which must have exactly two: a settling stage, then one that
-/// places the top wall on the surface. Throws ConfigError otherwise.
+/// places the top wall on the surface. Throws ConfigError otherwise, and RunCheckError at the
+/// first failed run check under the scene's on_failed_check = "stop".
 CompactionResult runCompaction(const Scene& scene, const CompactionOptions& options);
 
 }  // namespace granular
