@@ -261,6 +261,7 @@ int runScene(const RunOptions& options) {
         << " is already complete: writing its final state and summary again\n";
   } else {
     printHeader(out, scene, sim, outDir);
+    if (!start.resumed) printSavedStateStart(out, scene, sim);
   }
   // Under mpirun the run is split by space: each rank steps the particles of its brick, and
   // the whole state is gathered for the files (Simulation::splitAmong).

@@ -112,6 +112,30 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
       << std::flush;
 }
 
+void printSavedStateStart(std::ostream& out, const Scene& scene, const Simulation& sim) {
+  std::string files;
+  for (const Generator& g : scene.generators) {
+    const auto* csv = std::get_if<CsvGenerator>(&g);
+    if (csv && csv->savedState) files += (files.empty() ? "" : ", ") + csv->path.string();
+  }
+  if (files.empty()) return;
+  std::size_t pairs = 0, walls = 0;
+  double largest = 0.0, relative = 0.0;  // the largest overlap [m] and over its radius [-]
+  sim.forEachContact([&](const ContactView& c) {
+    if (!c.isWall() && c.otherParticle() < c.particle) return;  // each pair once
+    (c.isWall() ? walls : pairs) += 1;
+    double radius = sim.particles().radius[c.particle];
+    if (!c.isWall()) radius = std::min(radius, sim.particles().radius[c.otherParticle()]);
+    if (c.overlap > largest) largest = c.overlap;
+    relative = std::max(relative, c.overlap / radius);
+  });
+  out << "start       saved state " << files << ": " << pairs << " particle and " << walls
+      << " wall contacts overlapping, the largest by " << format("%.4g", largest) << " m ("
+      << format("%.3g", 100.0 * relative) << " % of a radius); every contact's history (tangential"
+      << (RollingResistance::active(sim.config().material) ? " and rolling" : "")
+      << " springs) starts at zero: a state file does not hold it\n";
+}
+
 /// The walls whose reactions the time series carries: the box's, plus the top wall if a stage
 /// will place it. Fixed before the run because CSV columns cannot be added later.
 std::vector<std::string> reactionWallNames(const Scene& scene) {

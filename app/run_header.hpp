@@ -22,6 +22,10 @@ double totalMass(const Particles& particles);
 /// walls, stages and output folder.
 void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
                  const std::filesystem::path& outDir);
+/// For a run that starts from a saved state (particles[i].type = "state"): the contacts it
+/// starts with (pairs and walls overlapping, the largest overlap) and that their history starts
+/// at zero. Prints nothing for a scene without one.
+void printSavedStateStart(std::ostream& out, const Scene& scene, const Simulation& sim);
 
 /// The walls whose reactions a time series carries: the box's, plus the top wall if a stage will
 /// place it. Fixed before the run because CSV columns cannot be added later.

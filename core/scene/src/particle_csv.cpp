@@ -2,6 +2,7 @@
 /// 3. the rows.
 #include "particle_csv.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -63,13 +64,21 @@ bool isNumericLine(std::string_view line) {
 // 2. The header -----------------------------------------------------------------------------------
 
 /// The quantities a row can give, in the order of `Columns::of`.
-enum Quantity { X, Y, Z, R, VX, VY, VZ, WX, WY, WZ, kQuantities };
-constexpr std::array<std::string_view, kQuantities> kNames = {"x",  "y",  "z",  "r",  "vx",
-                                                              "vy", "vz", "wx", "wy", "wz"};
+enum Quantity { X, Y, Z, R, VX, VY, VZ, WX, WY, WZ, M, kQuantities };
+constexpr std::array<std::string_view, kQuantities> kNames = {"x",  "y",  "z",  "r",  "vx",  "vy",
+                                                              "vz", "wx", "wy", "wz", "mass"};
+/// Columns granular writes in its state files that a saved state's reader passes over: the
+/// rows' order numbers the particles, and a snapshot's step and time are the file's, not the
+/// new run's.
+constexpr std::array<std::string_view, 3> kStateOnly = {"id", "step", "time_s"};
 /// Ends every header message, so that a user sees what a header may hold.
-constexpr std::string_view kKnownColumns =
+constexpr std::string_view kKnownParticleColumns =
     "the columns are x, y, z and r (or radius), optionally vx, vy, vz and wx, wy, wz, in any "
     "order, each once";
+constexpr std::string_view kKnownStateColumns =
+    "a saved state's columns are x, y, z, radius (or r) and mass, optionally vx, vy, vz and wx, "
+    "wy, wz, in any order, each once, as granular writes them in final_state.csv and its "
+    "snapshots (id, step and time_s are passed over)";
 
 /// Which column gives each quantity (-1: none), from the header's names.
 struct Columns {
@@ -85,8 +94,10 @@ std::string hintFor(std::string_view name) {
     return "; did you mean r, the radius (half the diameter)?";
   }
   if (name == "id" || name == "mass" || name == "step" || name == "time_s") {
-    return "; granular writes it in its particle files but does not read it (the rows' order "
-           "numbers the particles and the mass follows from the density): drop the column";
+    return "; granular writes it in its particle files but a particle file does not read it "
+           "(the rows' order numbers the particles and the mass follows from the density): "
+           "drop the column, or give the file as a saved state (type = \"state\") to start "
+           "from it as it is";
   }
   std::vector<std::string_view> candidates(kNames.begin(), kNames.end());
   candidates.push_back("radius");
@@ -100,12 +111,13 @@ std::string hintFor(std::string_view name) {
   return bestDistance <= 1 ? "; did you mean '" + std::string(best) + "'?" : std::string();
 }
 
-Columns readHeader(std::string_view text, const std::string& where) {
+Columns readHeader(std::string_view text, const std::string& where, CsvKind kind) {
+  const bool state = kind == CsvKind::SavedState;
+  const std::string_view known = state ? kKnownStateColumns : kKnownParticleColumns;
   const std::vector<std::string_view> fields = splitFields(text);
   if (fields.size() == 1 && text.find(';') != std::string_view::npos) {
     throw ConfigError(where + "the header '" + printable(text) +
-                      "' has no commas: separate the columns with commas; " +
-                      std::string(kKnownColumns));
+                      "' has no commas: separate the columns with commas; " + std::string(known));
   }
   Columns columns;
   columns.of.fill(-1);
@@ -114,36 +126,40 @@ Columns readHeader(std::string_view text, const std::string& where) {
     const std::string number = "column " + std::to_string(c + 1);
     if (name.empty()) {
       throw ConfigError(where + number + " of the header has no name (a stray comma?); " +
-                        std::string(kKnownColumns));
+                        std::string(known));
+    }
+    if (state && std::find(kStateOnly.begin(), kStateOnly.end(), name) != kStateOnly.end()) {
+      columns.names.emplace_back(name);  // passed over
+      continue;
     }
     int quantity = -1;
     for (int q = 0; q < kQuantities; ++q) {
       if (name == kNames[std::size_t(q)]) quantity = q;
     }
     if (name == "radius") quantity = R;
+    if (quantity == M && !state) quantity = -1;  // a particle file's mass follows the density
     if (quantity < 0) {
       throw ConfigError(where + number + " '" + printable(name) + "' is not a particle column" +
-                        hintFor(name) + "; " + std::string(kKnownColumns));
+                        hintFor(name) + "; " + std::string(known));
     }
     if (const int earlier = columns.of[std::size_t(quantity)]; earlier >= 0) {
       throw ConfigError(where + "columns " + std::to_string(earlier + 1) + " (" +
                         columns.names[std::size_t(earlier)] + ") and " + std::to_string(c + 1) +
                         " (" + std::string(name) + ") both give " +
                         (quantity == R ? std::string("the radius") : std::string(name)) + "; " +
-                        std::string(kKnownColumns));
+                        std::string(known));
     }
     columns.of[std::size_t(quantity)] = int(c);
     columns.names.emplace_back(name);
   }
   std::string missing;
-  for (Quantity q : {X, Y, Z, R}) {
-    if (columns.has(q)) continue;
+  for (Quantity q : {X, Y, Z, R, M}) {
+    if (columns.has(q) || (q == M && !state)) continue;
     missing += missing.empty() ? "" : ", ";
     missing += kNames[q];
   }
   if (!missing.empty()) {
-    throw ConfigError(where + "the header has no column " + missing + "; " +
-                      std::string(kKnownColumns));
+    throw ConfigError(where + "the header has no column " + missing + "; " + std::string(known));
   }
   for (Quantity first : {VX, WX}) {
     const int given =
@@ -187,6 +203,7 @@ CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t r
     if (!value) throw ConfigError(where + column + "not a number");
     if (!std::isfinite(*value)) throw ConfigError(where + column + "must be a finite number");
     if (q == R && *value <= 0.0) throw ConfigError(where + column + "radius must be > 0");
+    if (q == M && *value <= 0.0) throw ConfigError(where + column + "mass must be > 0");
     values[std::size_t(q)] = *value;
   }
   CsvParticle p;
@@ -194,6 +211,7 @@ CsvParticle readRow(std::string_view text, const Columns& columns, std::size_t r
   p.radius = values[R];
   p.velocity = Vec3(values[VX], values[VY], values[VZ]);
   p.angularVelocity = Vec3(values[WX], values[WY], values[WZ]);
+  p.mass = values[M];
   return p;
 }
 
@@ -212,7 +230,7 @@ std::uint64_t valuesHash(const std::vector<CsvParticle>& rows) {
 
 }  // namespace
 
-ParticleCsv readParticleCsv(const std::filesystem::path& path) {
+ParticleCsv readParticleCsv(const std::filesystem::path& path, CsvKind kind) {
   // The whole file at once: its bytes are hashed (the run's fingerprint) and parsed from the
   // same copy, so the two always describe the same file. A folder or a device (/dev/zero) is
   // refused before reading, and a file larger than the memory left is never read: the scene
@@ -244,10 +262,11 @@ ParticleCsv readParticleCsv(const std::filesystem::path& path) {
       // A numeric first line means the header was forgotten: reading it as a header would
       // silently drop a particle.
       if (isNumericLine(text)) {
-        throw ConfigError(where + "expected a header line naming the columns, got numbers; " +
-                          std::string(kKnownColumns));
+        throw ConfigError(
+            where + "expected a header line naming the columns, got numbers; " +
+            std::string(kind == CsvKind::SavedState ? kKnownStateColumns : kKnownParticleColumns));
       }
-      columns = readHeader(text, where);
+      columns = readHeader(text, where, kind);
       continue;
     }
     file.rows.push_back(readRow(text, *columns, file.rows.size() + 1, where));

@@ -16,6 +16,7 @@ struct CsvParticle {
   double radius = 0.0;                  ///< [m]
   Vec3 velocity = Vec3::Zero();         ///< [m/s]; zero when the file has no vx,vy,vz
   Vec3 angularVelocity = Vec3::Zero();  ///< [rad/s]; zero when the file has no wx,wy,wz
+  double mass = 0.0;                    ///< [kg]: a saved state's; 0 (from the density) else
   std::size_t line = 0;  ///< line of the row in the file (from 1); 0 if not from a file
 };
 
@@ -30,12 +31,18 @@ struct ParticleCsv {
 };
 
 /// Reads a header line naming the columns, then one row per particle. The header's names say
-/// which field is which, in any order, each once: x, y, z and r (or radius) are required, vx, vy,
-/// vz and wx, wy, wz are optional, each group all three or none (m, m/s, rad/s). Every row has
+/// which field is which, in any order, each once: x, y, z and r (or radius) are required (a
+/// saved state's: mass too), vx, vy, vz and wx, wy, wz are optional, each group all three or none
+/// (m, m/s, rad/s, kg). Every row has
 /// one field per column. Blank lines and lines starting with '#' are skipped. Throws ConfigError
 /// naming the file and line: on the header (an unknown, duplicate or missing column, with the
 /// known names), or on the first bad row (its row and column: not a number, NaN/inf,
 /// radius <= 0, wrong field count), or when there is no row.
-ParticleCsv readParticleCsv(const std::filesystem::path& path);
+/// What a particle CSV file is: particles to place (the scene's own, masses from the density)
+/// or a state granular saved (final_state.csv or a snapshot), which also gives the masses and
+/// whose id, step and time_s columns are passed over.
+enum class CsvKind { Particles, SavedState };
+
+ParticleCsv readParticleCsv(const std::filesystem::path& path, CsvKind kind = CsvKind::Particles);
 
 }  // namespace granular

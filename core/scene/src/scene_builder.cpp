@@ -89,23 +89,49 @@ void sampleGrid(const GridGenerator& g,
 
 // 2. Particle checks ------------------------------------------------------------------------------
 
+/// Whether a particle is a saved state's (CsvGenerator::savedState): only those carry a mass.
+bool fromSavedState(const CsvParticle& p) {
+  return p.mass > 0.0;
+}
+
 /// The x and y faces and the floor always bound the particles; the top only when it is a wall,
-/// because the paper's particles start in a grid above an open box.
+/// because the paper's particles start in a grid above an open box. A saved state's particle
+/// may press into a wall (a settled bed does): its centre must be inside.
 void checkInsideBox(const std::vector<CsvParticle>& particles, const BoxSpec& box) {
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const CsvParticle& p = particles[i];
+    const double reach = fromSavedState(p) ? 0.0 : p.radius;
     for (std::size_t face = 0; face < kBoxWallNames.size(); ++face) {
       if (face == 5 && !box.walls[5]) continue;
       const int axis = int(face / 2);
       const bool lower = face % 2 == 0;
       const double x = p.position[axis];
-      const bool outside = lower ? x - p.radius < box.min[axis] : x + p.radius > box.max[axis];
+      const bool outside = lower ? x - reach < box.min[axis] : x + reach > box.max[axis];
       if (outside) {
         throw ConfigError("particle " + std::to_string(i) + " at " + formatPoint(p.position) +
-                          " with radius " + formatNumber(p.radius) + " m crosses the box face " +
-                          kBoxWallNames[face] + " at " + "xyz"[axis] + " = " +
+                          " with radius " + formatNumber(p.radius) + " m " +
+                          (fromSavedState(p) ? "has its centre beyond" : "crosses") +
+                          " the box face " + kBoxWallNames[face] + " at " + "xyz"[axis] + " = " +
                           formatNumber(lower ? box.min[axis] : box.max[axis]) + " m");
       }
+    }
+  }
+}
+
+/// A saved state keeps its masses, and the run's density must be theirs: the contact scale,
+/// the step's limits and every particle added beside them use it.
+void checkSavedMasses(const std::vector<CsvParticle>& particles, double density,
+                      const std::function<std::string(std::size_t)>& describe) {
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const CsvParticle& p = particles[i];
+    if (!fromSavedState(p)) continue;
+    const double own = p.mass / (4.0 / 3.0 * std::numbers::pi * std::pow(p.radius, 3));
+    if (!(std::abs(own - density) <= 1e-9 * density)) {
+      throw ConfigError(describe(i) + ": its mass " + formatNumber(p.mass) + " kg and radius " +
+                        formatNumber(p.radius) + " m give a density of " + formatNumber(own) +
+                        " kg/m³, and the run's is " + formatNumber(density) +
+                        " kg/m³: a saved state keeps its masses, so set material.density (or "
+                        "total_mass) to what the run that saved it had");
     }
   }
 }
@@ -157,6 +183,8 @@ void checkNoOverlap(const std::vector<CsvParticle>& particles,
           for (auto it = first; it != sorted.end() && it->first == c; ++it) {
             const std::size_t j = it->second;
             if (j <= i || j >= partner) continue;
+            // A saved state's own contacts are part of it.
+            if (fromSavedState(particles[i]) && fromSavedState(particles[j])) continue;
             const double gap = (particles[j].position - particles[i].position).norm();
             if (gap < particles[i].radius + particles[j].radius) partner = j;
           }
@@ -191,7 +219,8 @@ BuiltParticles build(const Scene& scene) {
       forEachGridParticle(*grid, [&all](std::size_t, const CsvParticle& p) { all.push_back(p); });
     } else {
       const CsvGenerator& csv = std::get<CsvGenerator>(scene.generators[index]);
-      const ParticleCsv file = readParticleCsv(csv.path);
+      const ParticleCsv file =
+          readParticleCsv(csv.path, csv.savedState ? CsvKind::SavedState : CsvKind::Particles);
       if (csv.contentHash && file.contentHash != *csv.contentHash) {
         // The run's fingerprint names what loadScene read; building from other bytes would
         // run particles the checkpoints do not describe.
@@ -209,17 +238,18 @@ BuiltParticles build(const Scene& scene) {
   } catch (const ConfigError& e) {
     throw ConfigError(prefix + e.what());
   }
+  auto describe = [&](std::size_t i) {
+    const std::size_t entry =
+        std::size_t(std::upper_bound(firstOf.begin(), firstOf.end(), i) - firstOf.begin()) - 1;
+    const std::string particle =
+        "particle " + std::to_string(i) + " (particles[" + std::to_string(entry) + "], ";
+    if (const auto* csv = std::get_if<CsvGenerator>(&scene.generators[entry])) {
+      return particle + csv->path.string() + ":" + std::to_string(all[i].line) + ")";
+    }
+    return particle + "grid particle " + std::to_string(i - firstOf[entry]) + ")";
+  };
   try {
-    checkNoOverlap(all, [&](std::size_t i) {
-      const std::size_t entry =
-          std::size_t(std::upper_bound(firstOf.begin(), firstOf.end(), i) - firstOf.begin()) - 1;
-      const std::string particle =
-          "particle " + std::to_string(i) + " (particles[" + std::to_string(entry) + "], ";
-      if (const auto* csv = std::get_if<CsvGenerator>(&scene.generators[entry])) {
-        return particle + csv->path.string() + ":" + std::to_string(all[i].line) + ")";
-      }
-      return particle + "grid particle " + std::to_string(i - firstOf[entry]) + ")";
-    });
+    checkNoOverlap(all, describe);
   } catch (const ConfigError& e) {
     throw ConfigError(prefix + e.what());
   }
@@ -234,9 +264,15 @@ BuiltParticles build(const Scene& scene) {
     for (const CsvParticle& p : all) volume += 4.0 / 3.0 * std::numbers::pi * std::pow(p.radius, 3);
     out.density = *scene.totalMass / volume;
   }
+  try {
+    checkSavedMasses(all, out.density, describe);
+  } catch (const ConfigError& e) {
+    throw ConfigError(prefix + e.what());
+  }
   for (const CsvParticle& p : all) {
     out.particles.add(p.position, p.radius, out.density, p.velocity);
     out.particles.angularVelocity.back() = p.angularVelocity;
+    if (fromSavedState(p)) out.particles.mass.back() = p.mass;  // as it was, to the bit
   }
   return out;
 }

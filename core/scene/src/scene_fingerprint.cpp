@@ -108,14 +108,18 @@ std::uint64_t gridHash(const GridGenerator& g) {
 /// The particles' values, not the file's path or bytes: the same particles moved elsewhere or
 /// written another way are the same run (ParticleCsv::contentHash).
 std::uint64_t csvHash(const CsvGenerator& g) {
-  const auto& [path, contentHash] = g;
+  const auto& [path, contentHash, savedState] = g;
   Canonical c;
+  // A saved state is another source than a particle file of the same rows (its masses, its
+  // overlaps); a particle file's part is as it was before saved states were read.
+  const std::string kind = savedState ? "state" : "csv";
   if (contentHash) {
-    c << std::string("csv") << *contentHash;
+    c << kind << *contentHash;
     return c.hash();
   }
   try {
-    c << std::string("csv") << readParticleCsv(path).contentHash;
+    c << kind
+      << readParticleCsv(path, savedState ? CsvKind::SavedState : CsvKind::Particles).contentHash;
   } catch (const ConfigError& e) {
     throw CheckpointError(e.what());
   }

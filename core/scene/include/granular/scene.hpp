@@ -48,6 +48,12 @@ struct CsvGenerator {
   /// file if they have changed since. Empty for a scene built in C++ (the builder reads whatever
   /// is there).
   std::optional<std::uint64_t> contentHash;
+  /// A state granular saved (final_state.csv, a snapshot; type = "state"), taken as it is: the
+  /// masses from its mass column, overlaps between its particles and with the walls allowed
+  /// (a settled bed has them), every contact's history (tangential and rolling springs) starting
+  /// at zero. A particle file (false) gives positions, radii, velocities and spins, its masses
+  /// follow from the density, and its particles must not touch.
+  bool savedState = false;
 };
 
 using Generator = std::variant<GridGenerator, CsvGenerator>;
