@@ -296,6 +296,11 @@ int runScene(const RunOptions& options) {
                    progress.energyReference.value_or(sim.energy().total()));
   progress.energyReference = checks.referenceTotal();
   std::vector<std::string> warnings;
+  // What the loader found legal but likely wrong (an overlap beyond a radius no step mends).
+  for (const std::string& warning : scene.warnings) {
+    if (root) std::cerr << "warning: " << warning << "\n";
+    warnings.push_back(warning);
+  }
   bool unstableReported = false;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "calibrate_command.hpp"
+#include "granular/contact_theory.hpp"
 #include "granular/engine_studies.hpp"
 #include "granular/run_checks.hpp"
 #include "granular_process.hpp"
@@ -250,5 +251,50 @@ TEST(EnergyRunChecks, CalibrateBoxWarnsOnStderrAndInItsReportOrStopsWithExitThre
     EXPECT_TRUE(contains(report, "Run checks (energy balance, particles in the box): **failed**"))
         << report;
     EXPECT_TRUE(contains(report, "\n- box side 0.3 m: energy balance drifted by ")) << report;
+  }
+}
+
+TEST(EnergyRunChecks, ASphereThroughTheFloorAtAHundredMetresASecondBlamesTheContactNotTheStep) {
+  // The paper's material: a head-on impact on a wall overlaps a sphere of 3 cm by its radius
+  // at about 12 m/s (Hooke's peak v/ω, damped a little). At 100 m/s the sphere passes through
+  // the floor at 2 µs and at 20 µs alike (it moves 0.2 mm and 2 mm a step, under a tenth of its
+  // radius): the contact, not the step, is at fault, and the message says so.
+  const double r = 0.03;
+  Material material;
+  const double mass = material.density * 4.0 / 3.0 * M_PI * r * r * r;
+  const double held = speedForPeakOverlap(material, r, mass, r);
+  EXPECT_NEAR(peakImpactOverlap(material, r, mass, held), r, 1e-12 * r);
+  EXPECT_GT(held, 5.0);
+  EXPECT_LT(held, 20.0);
+  for (const double dt : {2e-6, 2e-5}) {
+    SCOPED_TRACE(dt);
+    SimulationConfig cfg;
+    cfg.timeStep = dt;
+    cfg.gravity = Vec3::Zero();
+    Particles p;
+    p.add(Vec3(0.5, 0.5, 0.05), r, material.density, Vec3(0, 0, -100));
+    Wall floor;
+    floor.name = "bottom";
+    floor.point = Vec3(0.5, 0.5, 0.0);
+    Simulation sim(std::move(p), {floor}, cfg);
+    BoxSpec box;
+    RunChecks checks(RunCheckSpec{}, box, sim.energy().total());
+    std::string found;
+    for (int k = 0; k < 200 && found.empty(); ++k) {
+      sim.advanceTo(sim.time() + 1e-4);
+      for (const std::string& warning : checks.atSample(sim, "impact")) {
+        if (contains(warning, "outside the box")) found = warning;
+      }
+    }
+    ASSERT_FALSE(found.empty()) << "the sphere did not pass through";
+    EXPECT_TRUE(contains(found, "wholly beyond the wall bottom")) << found;
+    EXPECT_TRUE(contains(found, "whatever the time step")) << found;
+    EXPECT_TRUE(contains(found, "too soft for the speed or the load")) << found;
+    EXPECT_TRUE(contains(found,
+                         "holds a head-on impact of a sphere of this radius on a wall up "
+                         "to " +
+                             std::to_string(held).substr(0, 4)))
+        << found;
+    EXPECT_FALSE(contains(found, "too fast for the time step")) << found;
   }
 }

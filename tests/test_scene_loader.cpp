@@ -14,6 +14,7 @@
 #include "granular/error.hpp"
 #include "granular/network_step.hpp"
 #include "granular/scene.hpp"
+#include "granular_process.hpp"
 #include "temp_folder.hpp"
 
 namespace granular {
@@ -530,6 +531,48 @@ TEST_F(SceneLoader, MalformedScenesNameTheKey) {
       EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
     }
   }
+}
+
+TEST_F(SceneLoader, AnImpactSpeedThatOverlapsBeyondARadiusIsWarnedOfNamingTheKey) {
+  // The paper's material holds a head-on impact of its 3 cm spheres up to about 12 m/s.
+  const std::string declared =
+      replaced(kMinimal, "time_step = 1e-4", "time_step = 1e-4\nimpact_speed = 100");
+  const Scene fast = loadScene(write("scene.toml", declared));
+  ASSERT_EQ(fast.warnings.size(), 1u);
+  const std::string& w = fast.warnings[0];
+  EXPECT_NE(w.find("scene.toml:3:1: simulation.impact_speed = 100: an impact at 100 m/s"),
+            std::string::npos)
+      << w;
+  EXPECT_NE(w.find("whatever the time step"), std::string::npos) << w;
+  EXPECT_NE(w.find("this material holds impacts up to"), std::string::npos) << w;
+  EXPECT_TRUE(loadScene(write("slow.toml", replaced(declared, "= 100", "= 5"))).warnings.empty());
+  // Initial speeds that imply it, without the key: the warning says where the speed comes from.
+  const Scene launched =
+      loadScene(write("launched.toml", replaced(kMinimal, "radius_max = 0.035",
+                                                "radius_max = 0.035\nspeed_max = 40")));
+  ASSERT_EQ(launched.warnings.size(), 1u);
+  EXPECT_NE(launched.warnings[0].find("initial speeds, fall height and wall speeds let a particle"),
+            std::string::npos)
+      << launched.warnings[0];
+}
+
+TEST_F(SceneLoader, ABedThatSinksThroughItsFloorAtRestIsWarnedOf) {
+  const fs::path paper = fs::path(GRANULAR_SOURCE_DIR) / "assets/scenes/paper-mu0.toml";
+  const Scene shipped = loadScene(paper);
+  EXPECT_TRUE(shipped.warnings.empty()) << shipped.warnings.front();
+  // E/100: the paper's bed presses its bottom spheres several radii into the floor at rest.
+  std::string soft = testing::readFile(paper);
+  soft = replaced(soft, "youngs_modulus = 0.3e6", "youngs_modulus = 0.3e4");
+  soft = replaced(soft, "shear_modulus = 0.11e6", "shear_modulus = 0.11e4");
+  soft = replaced(soft, "time_step = 1.7e-4", "time_step = 1.2e-3");
+  const Scene sinking = loadScene(write("soft.toml", soft));
+  bool found = false;
+  for (const std::string& w : sinking.warnings) {
+    found = found ||
+            (w.find("material.youngs_modulus = 3000: at rest on the floor") != std::string::npos &&
+             w.find("sink through the floor") != std::string::npos);
+  }
+  EXPECT_TRUE(found);
 }
 
 }  // namespace

@@ -122,6 +122,22 @@ Duration contactDuration(const Material& mat, double reducedRadius, double reduc
 
 }  // namespace
 
+double peakImpactOverlap(const Material& mat, double reducedRadius, double reducedMass,
+                         double speed) {
+  const double kn = mat.normalCoefficient();
+  if (mat.normalLaw == NormalLaw::Hooke) {
+    return hookeDampedImpact(kn * reducedRadius, mat.normalDamping, reducedMass, speed).peakOverlap;
+  }
+  return hertzUndampedImpact(kn * std::sqrt(reducedRadius), reducedMass, speed).peakOverlap;
+}
+
+double speedForPeakOverlap(const Material& mat, double reducedRadius, double reducedMass,
+                           double overlap) {
+  const double atOne = peakImpactOverlap(mat, reducedRadius, reducedMass, 1.0);
+  const double ratio = overlap / atOne;
+  return mat.normalLaw == NormalLaw::Hooke ? ratio : std::pow(ratio, 1.25);
+}
+
 ContactScale stiffestContact(const Material& mat, double r, double impactSpeed) {
   const double m = mat.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const double aboutContact = 1.4 * m * r * r;  // I + m r² = (7/5) m r², as the rolling term

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "granular/contact_theory.hpp"
 #include "number_format.hpp"
 
 namespace granular {
@@ -27,7 +28,31 @@ struct Bound {
   Vec3 point, normal;
   std::string name;
   bool wall;
+  Vec3 velocity = Vec3::Zero();  ///< a wall's [m/s]
 };
+
+/// Why particle i passed through a wall: a step that carried it past (tunnelling), or a
+/// contact too soft for the speed or the load it met (an overlap beyond its radius), which no
+/// step mends.
+std::string throughWall(const Simulation& sim, std::size_t i, const Bound& b) {
+  const Particles& p = sim.particles();
+  const double radius = p.radius[i], mass = p.mass[i];
+  const double speed = (p.velocity[i] - b.velocity).dot(-b.normal);  // > 0: on into the wall
+  const double dt = sim.config().timeStep;
+  if (speed * dt > 0.5 * radius) {
+    return "it moves " + fixed("%.3g", speed * dt) + " m a step (" + fixed("%.4g", speed) +
+           " m/s × " + fixed("%.3g", dt) +
+           " s), more than half its radius: too fast for the time step";
+  }
+  const double held = speedForPeakOverlap(sim.config().material, radius, mass, radius);
+  return "pressed more than its radius into the wall, a sphere passes through it, whatever the "
+         "time step: the contact is too soft for the speed or the load it met (this material "
+         "holds a head-on impact of a sphere of this radius on a wall up to " +
+         fixed("%.4g", held) + " m/s" +
+         (speed > held ? ", and the particle still moves at " + fixed("%.4g", speed) + " m/s"
+                       : std::string()) +
+         "); stiffen material.youngs_modulus, or slow the particles";
+}
 
 /// The first of this rank's particles wholly beyond a bound, described; empty if none.
 std::string firstOutside(const Simulation& sim, const std::string& stage,
@@ -44,9 +69,7 @@ std::string firstOutside(const Simulation& sim, const std::string& stage,
              ", " + formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
              " m, wholly beyond " + b.name + " (its centre " + fixed("%.3g", beyond) +
              " m past it): " +
-             (b.wall ? "the particle and the wall passed through each other, too fast for the "
-                       "time step"
-                     : "it left through a face that is not a wall");
+             (b.wall ? throughWall(sim, i, b) : "it left through a face that is not a wall");
     }
   }
   return {};
@@ -104,7 +127,7 @@ std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stag
   // the box that are not walls but bound where particles start: the sides and the floor.
   std::vector<Bound> bounds;
   for (const Wall& w : sim.walls())
-    bounds.push_back({w.point, w.normal, "the wall " + w.name, true});
+    bounds.push_back({w.point, w.normal, "the wall " + w.name, true, w.velocity});
   for (std::size_t face = 0; face + 1 < kBoxWallNames.size(); ++face) {
     if (box_.walls[face] || sim.findWall(kBoxWallNames[face]) >= 0) continue;
     const int axis = int(face / 2);

@@ -152,11 +152,12 @@ std::uint64_t outputHash(const OutputSpec& o) {
 }  // namespace
 
 SceneFingerprint fingerprintScene(const Scene& scene) {
-  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output, keyLocations] =
-      scene;
-  // The scene file's name and the keys' lines are not part of the run: only where messages
-  // point.
+  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output, keyLocations,
+               warnings] = scene;
+  // The scene file's name, the keys' lines and the loader's warnings are not part of the run:
+  // only what messages say.
   static_cast<void>(keyLocations);
+  static_cast<void>(warnings);
   const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
   const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads,
                exactSums] = simulation;

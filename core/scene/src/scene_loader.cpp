@@ -110,9 +110,11 @@ struct MotionBound {
   double highestTop = -std::numeric_limits<double>::infinity();     ///< max z + r [m]
   double fastest = 0.0;                                             ///< max initial speed [m/s]
   double smallestRadius = std::numeric_limits<double>::infinity();  ///< [m]
+  double largestRadius = 0.0;                                       ///< [m]
   double volume = 0.0;  ///< Σ (4/3)π R³ in particle order, as the builder sums it [m³]
   void add(double radius) {
     smallestRadius = std::min(smallestRadius, radius);
+    largestRadius = std::max(largestRadius, radius);
     volume += 4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3);
   }
 };
@@ -632,6 +634,76 @@ void checkTimeStep(const TomlTableReader& root, const std::string& file, Scene& 
   }
 }
 
+/// Where a warning about `key` of `table` points: the key's line, or the table's, or the file.
+std::string warningPrefix(const TomlTableReader& root, const std::string& file,
+                          std::string_view table, std::string_view key) {
+  if (const toml::table* t = root.subTable(table)) {
+    const TomlTableReader r(*t, std::string(table), file);
+    if (r.has(key)) return r.messagePrefix(key);
+  }
+  return file + ": ";
+}
+
+/// Warnings of overlaps beyond a radius, which no time step mends (the contact is too soft for
+/// the load): an impact at the expected approach speed, and the bed's weight on its floor.
+void warnOfDeepOverlaps(const TomlTableReader& root, const std::string& file, Scene& scene,
+                        const MotionBound& bound, bool impactSpeedGiven) {
+  Material material = scene.simulation.material;
+  if (scene.totalMass) material.density = *scene.totalMass / bound.volume;
+  const double r = bound.smallestRadius;
+  const double m = material.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  // A declared approach speed as it is; the default's bound (two spheres head-on, each at the
+  // largest speed a particle reaches) far exceeds what a bed's impacts meet, so a particle at
+  // that largest speed striking a wall or a sphere at rest stands for it.
+  const double u =
+      impactSpeedGiven ? scene.simulation.impactSpeed : 0.5 * scene.simulation.impactSpeed;
+  try {
+    // A wall contact and a pair of the smallest spheres (a pair's overlap beyond a radius puts
+    // each centre inside the other sphere).
+    const double wall = peakImpactOverlap(material, r, m, u);
+    const double pair = peakImpactOverlap(material, 0.5 * r, 0.5 * m, u);
+    if (std::max(wall, pair) > r) {
+      const double held = std::min(speedForPeakOverlap(material, r, m, r),
+                                   speedForPeakOverlap(material, 0.5 * r, 0.5 * m, r));
+      const std::string where =
+          impactSpeedGiven
+              ? warningPrefix(root, file, "simulation", "impact_speed")
+              : file + ": the particles' initial speeds, fall height and wall speeds let a " +
+                    "particle strike at up to " + fourDigits(u) + " m/s: ";
+      scene.warnings.push_back(
+          where + "an impact at " + fourDigits(u) + " m/s overlaps spheres of radius " +
+          fourDigits(r) + " m by " + fourDigits(std::max(wall, pair) / r) +
+          " radii (the peak overlap of a head-on impact under the normal law): beyond a radius "
+          "spheres pass through each other and through walls, whatever the time step; this "
+          "material holds impacts up to " +
+          fourDigits(held) + " m/s: stiffen material.youngs_modulus, or slow the particles");
+    }
+  } catch (const ConfigError&) {
+    // An over-damped contact: refused by the time-step check already.
+  }
+  // At rest on the floor: the bed's weight over the floor's area, on each bottom sphere's
+  // square of side 2R (the largest spheres press in deepest: k_n grows as R, the load as R²).
+  const double down = -scene.simulation.gravity.z();
+  if (!scene.box.walls[4] || !(down > 0.0)) return;
+  const Vec3 size = scene.box.max - scene.box.min;
+  const double big = bound.largestRadius;
+  const double load =
+      material.density * bound.volume * down / (size.x() * size.y()) * (2.0 * big) * (2.0 * big);
+  const double kn = material.normalCoefficient();
+  const double sunk = material.normalLaw == NormalLaw::Hooke
+                          ? load / (kn * big)
+                          : std::pow(load / (kn * std::sqrt(big)), 2.0 / 3.0);
+  if (sunk > big) {
+    scene.warnings.push_back(
+        warningPrefix(root, file, "material", "youngs_modulus") + "at rest on the floor, the " +
+        "bed's weight (" + fourDigits(material.density * bound.volume * down) + " N over " +
+        fourDigits(size.x() * size.y()) + " m²) presses each bottom sphere of radius " +
+        fourDigits(big) + " m " + fourDigits(sunk / big) +
+        " radii into it: the spheres sink through the floor, whatever the time step; stiffen "
+        "material.youngs_modulus");
+  }
+}
+
 }  // namespace
 
 // 8. loadScene ------------------------------------------------------------------------------------
@@ -696,6 +768,7 @@ Scene loadScene(const std::filesystem::path& file) {
         defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages);
   }
   checkTimeStep(root, name, scene, bound);
+  warnOfDeepOverlaps(root, name, scene, bound, impactSpeedGiven);
   return scene;
 }
 

@@ -34,6 +34,18 @@ ImpactPrediction hookeDampedImpactWithPull(double stiffness, double normalDampin
 ImpactPrediction hertzUndampedImpact(double hertzConstant, double reducedMass,
                                      double approachSpeed);
 
+/// The peak overlap of a head-on impact at approach speed `speed` [m/s] on a contact of reduced
+/// radius and mass (a wall contact: the particle's own) under the material's normal law: the
+/// damped Hooke or undamped Hertz closed form above [m]. Beyond the particle's radius a sphere
+/// passes through a wall, whatever the time step.
+double peakImpactOverlap(const Material& material, double reducedRadius, double reducedMass,
+                         double speed);
+/// The approach speed whose head-on impact reaches the peak overlap `overlap` [m/s]: the
+/// speed a contact of this material holds (the peak grows as v under Hooke, as v^(4/5) under
+/// Hertz).
+double speedForPeakOverlap(const Material& material, double reducedRadius, double reducedMass,
+                           double overlap);
+
 /// The shortest contact among the pairs a scene can produce: the smallest particle against a wall
 /// and against another smallest particle (for Hooke these two have the same k/m; for Hertz the pair
 /// is shorter). For Hertz, whose duration depends on the impact speed, `impactSpeed` [m/s] is the

@@ -118,6 +118,10 @@ struct Scene {
   /// its contact network), so that the refusal names the file, the line and the key. Empty for
   /// a scene built in C++.
   std::map<std::string, std::string> keyLocations;
+  /// What the loader found legal but likely wrong, each "file:line:column: key = value: why"
+  /// (an impact speed whose peak overlap is beyond a radius, a bed that sinks through its floor
+  /// at rest): the commands print them as warnings. Empty for a scene built in C++.
+  std::vector<std::string> warnings;
 };
 
 /// A stage's name as output file names carry it: every character outside [A-Za-z0-9_-] becomes
