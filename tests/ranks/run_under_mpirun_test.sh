@@ -12,6 +12,9 @@
 #               and so is that run stopped by a NaN and resumed alone; without exact sums, only
 #               the energy and wall-reaction columns of timeseries.csv and the walls' ParaView
 #               files differ, and the reactions do
+#   sigterm     SIGTERM to mpirun: mpirun exits 1 (OpenMPI's own status for a signal it
+#               received), the ranks write the checkpoint and say so in one line; resumed alone
+#               with exact_sums it ends with the files of the uninterrupted run alone
 # Usage: run_under_mpirun_test.sh CASE GRANULAR MPIEXEC SCENE WORKDIR
 set -euo pipefail
 case_name="$1" granular="$2" mpiexec="$3" scene="$4" work="$5"
@@ -165,6 +168,33 @@ case "$case_name" in
       [[ "$f" == ./timeseries.csv || "$f" == *_walls.vtp ]] && continue
       cmp -s "plain/$f" "np2/$f" || fail "$f differs without exact sums"
     done
+    ;;
+  sigterm)
+    # A longer settling, so that the signal lands mid-run.
+    with_exact_sums exact.toml
+    sed -i 's/^max_time = 0.8 /max_time = 20.0 /' exact.toml
+    "$granular" run exact.toml --out whole --quiet >/dev/null || fail "the run alone failed"
+    ranks 2 run exact.toml --out stopped --quiet >stopped.log 2>stopped.err &
+    job=$!
+    for _ in $(seq 600); do
+      [[ -f stopped/timeseries.csv ]] && (($(wc -l <stopped/timeseries.csv) > 5)) && break
+      sleep 0.1
+    done
+    launcher=$(pgrep -f "^$mpiexec -np 2 .*--out stopped")
+    [[ -n "$launcher" ]] || fail "no mpirun to stop (the run ended first?)"
+    kill -TERM "$launcher"
+    set +e
+    wait "$job"
+    status=$?
+    set -e
+    [[ $status == 1 ]] || fail "mpirun stopped by SIGTERM: exit $status, expected OpenMPI's 1"
+    [[ "$(wc -l <stopped.err)" == 1 ]] || fail "not one line on stderr: $(cat stopped.err)"
+    grep -q "^stopped by SIGTERM at t = .*; checkpoint stopped/checkpoint.bin written" \
+      stopped.err || fail "the ranks did not say they wrote the checkpoint: $(cat stopped.err)"
+    "$granular" run exact.toml --out stopped --quiet --resume >resume.log 2>&1 ||
+      fail "resuming alone failed: $(cat resume.log)"
+    grep -q "^resuming" resume.log || fail "it did not resume: $(cat resume.log)"
+    same_files whole stopped
     ;;
   *)
     fail "unknown case $case_name"
