@@ -148,6 +148,9 @@ Start startOrResume(const RunOptions& options, const Scene& scene,
                             std::to_string(progress.stage + 1) + " of a scene with " +
                             std::to_string(scene.stages.size()));
     }
+    // A checkpoint holds the state, not how the sums are taken: the scene says that (a run
+    // under mpirun takes them exactly whatever it says, Simulation::splitAmong).
+    c.simulation.setExactSums(scene.simulation.exactSums);
     return {std::move(c.simulation), std::move(progress), true};
   }
   // A fresh start: the folder must not hold an earlier run's files, which the new run would

@@ -101,6 +101,10 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
     if (term.active && term.active(config.material)) optional.append(" ").append(term.name);
   }
   if (!optional.empty()) out << "terms      " << optional << " (optional terms in use)\n";
+  if (config.exactSums) {
+    out << "sums        exact (exact_sums = true): the energies and wall reactions are the bits "
+           "of a run under mpirun\n";
+  }
   out << "walls      ";
   for (const Wall& wall : sim.walls()) out << " " << wall.name;
   out << "\nstages     ";

@@ -132,6 +132,15 @@ TEST_F(SceneFingerprintTest, CommentsLayoutAndKeyOrderChangeNothing) {
   }
 }
 
+TEST_F(SceneFingerprintTest, ExactSumsChangeNothing) {
+  // The sums of the energies and wall reactions never steer the motion (docs/physics.md §2.9):
+  // a checkpoint written either way resumes with the other.
+  const std::string exact =
+      replaced(kScene, "time_step = 1.5e-4", "time_step = 1.5e-4\nexact_sums = true");
+  EXPECT_EQ(fingerprintOf(exact).combined(), fingerprintOf(kScene).combined());
+  EXPECT_NO_THROW(readCheckpoint(checkpointOfTheScene(), fingerprintOf(exact)));
+}
+
 TEST_F(SceneFingerprintTest, ACheckpointIsRefusedNamingWhatChanged) {
   const fs::path checkpoint = checkpointOfTheScene();
   EXPECT_NO_THROW(readCheckpoint(checkpoint, fingerprintOf(kScene)));

@@ -92,6 +92,7 @@ integrator = "verlet"
 time_step = 2e-5
 skin = 0.004
 impact_speed = 3.5
+exact_sums = true
 
 [box]
 min = [-1, -2, 0]
@@ -151,6 +152,7 @@ snapshots = [0.5, 0.25]
   EXPECT_EQ(s.simulation.timeStep, 2e-5);
   EXPECT_EQ(s.simulation.skin, 0.004);
   EXPECT_EQ(s.simulation.impactSpeed, 3.5);
+  EXPECT_TRUE(s.simulation.exactSums);
 
   EXPECT_EQ(s.box.min, Vec3(-1, -2, 0));
   EXPECT_EQ(s.box.max, Vec3(1, 2, 3));
@@ -209,6 +211,7 @@ TEST_F(SceneLoader, DefaultsAreTheStructDefaults) {
   EXPECT_EQ(s.simulation.gravity, Vec3(0, 0, -9.81));
   EXPECT_EQ(s.simulation.integrator, Integrator::Gear5);
   EXPECT_EQ(s.simulation.skin, 0.0);
+  EXPECT_FALSE(s.simulation.exactSums);  // a run alone sums block by block unless asked
   EXPECT_EQ(s.box.walls, BoxSpec().walls);
   EXPECT_FALSE(s.totalMass.has_value());
   const auto& grid = std::get<GridGenerator>(s.generators[0]);

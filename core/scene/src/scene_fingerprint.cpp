@@ -161,7 +161,8 @@ SceneFingerprint fingerprintScene(const Scene& scene) {
   const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
   const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads,
                exactSums] = simulation;
-  // The motion is the same bits for any thread count and either way of summing the energies.
+  // The motion is the same bits for any thread count and either way of summing the energies and
+  // wall reactions (simulation.exact_sums): a checkpoint written one way resumes the other.
   static_cast<void>(threads);
   static_cast<void>(exactSums);
 

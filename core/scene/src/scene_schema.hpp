@@ -12,8 +12,8 @@ namespace granular::scene_schema {
 inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
                                                  "total_mass", "stages",     "output"};
 inline constexpr std::string_view kSimulation[] = {
-    "gravity", "integrator",   "time_step",  "step_safety", "contact_resolution",
-    "skin",    "impact_speed", "on_unstable"};
+    "gravity", "integrator",   "time_step",   "step_safety", "contact_resolution",
+    "skin",    "impact_speed", "on_unstable", "exact_sums"};
 inline constexpr std::string_view kBox[] = {"min", "max", "walls"};
 inline constexpr std::string_view kGridParticles[] = {"type",       "origin",    "cell_size",
                                                       "cells",      "count",     "radius_min",
