@@ -304,7 +304,7 @@ int runScene(const RunOptions& options) {
     if (root) std::cerr << "warning: " << warning << "\n";
     warnings.push_back(warning);
   }
-  bool unstableReported = false;
+  bool unstableReported = false, approachReported = false;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
   // stage's end. The last one written is the last good state if the run breaks.
@@ -346,6 +346,32 @@ int runScene(const RunOptions& options) {
           reporter.finish();
           if (root) std::cerr << "warning: " << warning << "\n";
           warnings.push_back(warning);
+        }
+        const SimulationConfig& config = s.config();
+        if (!approachReported && !config.step.automatic &&
+            config.material.normalLaw == NormalLaw::Hertz &&
+            s.counters().fastestApproach > config.impactSpeed) {
+          // A fixed step was judged at the declared speed; at the measured one a Hertz contact
+          // is shorter, and the step may be above its limit there. An automatic step's floor
+          // follows the measured speeds by itself.
+          const double speed = s.counters().fastestApproach;
+          const ContactScale at = stiffestContact(config.material, s.contactScale().radius, speed);
+          const double limit = maxStableStep(at, config.integrator);
+          if (config.timeStep > limit) {
+            approachReported = true;
+            const std::string warning =
+                "contacts approach at up to " + format("%.4g", speed) +
+                " m/s, above simulation.impact_speed = " + format("%.4g", config.impactSpeed) +
+                " m/s that the time step was judged at: a Hertz contact at that speed lasts " +
+                format("%.4g", at.duration) + " s, and the step of " + csvNumber(config.timeStep) +
+                " s is above its limit there, " + format("%.4g", limit) +
+                " s (it resolves the contact in " + format("%.3g", at.duration / config.timeStep) +
+                " steps); declare impact_speed = " + format("%.4g", speed) +
+                " or more, or use time_step = \"auto\" (its floor follows the measured speeds)";
+            reporter.finish();
+            if (root) std::cerr << "warning: " << warning << "\n";
+            warnings.push_back(warning);
+          }
         }
         for (const std::string& warning : checks.atSample(s, stage.name)) {
           reporter.finish();

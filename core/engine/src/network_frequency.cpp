@@ -208,6 +208,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         const std::size_t i = c.particle;
         if (c.isWall()) {
           const double u = (p.velocity[i] - s.walls[c.wall()].velocity).dot(c.normal);
+          out.fastestApproach = std::max(out.fastestApproach, u);
           add(i, i, p.radius[i], p.mass[i], c.overlap + impactOverlap(p.mass[i], p.radius[i], u));
         } else {
           const std::size_t j = c.otherParticle();
@@ -215,6 +216,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
           const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
           const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
           const double u = (p.velocity[i] - p.velocity[j]).dot(c.normal);
+          out.fastestApproach = std::max(out.fastestApproach, u);
           add(i, j, reduced, mass, c.overlap + impactOverlap(mass, reduced, u));
         }
         out.contacts += mine(i) ? 1 : 0;
@@ -236,6 +238,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         if (!(u > 0.0) || gap > u * lookahead) continue;
         const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
         const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        out.fastestApproach = std::max(out.fastestApproach, u);
         add(i, j, reduced, mass, impactOverlap(mass, reduced, u));
         out.approaching += mine(i) ? 1 : 0;
       }
@@ -248,6 +251,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         if (!(gap > 0.0)) continue;
         const double u = -(p.velocity[i] - wall.velocity).dot(wall.normal);
         if (!(u > 0.0) || gap > u * lookahead) continue;
+        out.fastestApproach = std::max(out.fastestApproach, u);
         add(i, i, p.radius[i], p.mass[i], impactOverlap(p.mass[i], p.radius[i], u));
         out.approaching += mine(i) ? 1 : 0;
       }
@@ -264,6 +268,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
                                                       : -std::numeric_limits<double>::infinity());
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
+    out.fastestApproach = s.ranks->maxOverRanks(out.fastestApproach);
   }
   PowerBound k(stiffness, s), c(damping, s);
   auto fill = [&] {

@@ -89,25 +89,42 @@ double clock(const SimulationState& s) {
 
 /// The network's stable step for `integrator` now, counting the contacts that may form within
 /// two check intervals at step `dt` (docs/physics.md §2.16).
+/// The accuracy floor t_c / N of the stiffest contact at the approach speed `approach` [m/s]:
+/// a Hertz contact is shorter at a higher speed, so the floor follows the run's fastest
+/// approach wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend
+/// on it. Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long,
+/// but contacts that open and close inside a step kick its higher derivatives, and beds gain
+/// energy above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
+double accuracyFloor(const SimulationState& s, Integrator integrator, double approach) {
+  const bool faster =
+      s.config.material.normalLaw == NormalLaw::Hertz && approach > s.config.impactSpeed;
+  const ContactScale scale =
+      faster ? stiffestContact(s.config.material, s.contactScale.radius, approach) : s.contactScale;
+  double floor = scale.duration / s.config.step.contactResolution;
+  if (integrator == Integrator::Gear5) floor = std::min(floor, maxStableStep(scale, integrator));
+  return floor;
+}
+
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
   const StepControl& control = s.config.step;
-  const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * dt;
+  // Contacts that form within two check intervals count; an automatic step may grow to its
+  // floor at the expected speed before the next check, so the interval is measured in that.
+  const double longest = control.automatic ? std::max(dt, accuracyFloor(s, integrator, 0.0)) : dt;
+  const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * longest;
   StepCheck c;
-  c.accuracyStep = s.contactScale.duration / control.contactResolution;
-  // Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long, but
-  // contacts that open and close inside a step kick its higher derivatives, and beds gain
-  // energy above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
-  if (integrator == Integrator::Gear5) {
-    c.accuracyStep = std::min(c.accuracyStep, maxStableStep(s.contactScale, integrator));
-  }
   // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
   // fixed step, or the accuracy floor an automatic step cannot exceed anyway. An automatic step
   // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
   // fixed one 32 before it is judged above the network's.
-  const double needed = control.automatic ? c.accuracyStep / control.safety : dt;
   const NetworkFrequency f = networkFrequencyBound(
-      s, control.automatic ? 8 : 32, lookahead,
-      [&](const NetworkFrequency& g) { return needed <= networkStepOf(integrator, g); });
+      s, control.automatic ? 8 : 32, lookahead, [&](const NetworkFrequency& g) {
+        const double needed = control.automatic
+                                  ? accuracyFloor(s, integrator, g.fastestApproach) / control.safety
+                                  : dt;
+        return needed <= networkStepOf(integrator, g);
+      });
+  c.approachSpeed = f.fastestApproach;
+  c.accuracyStep = accuracyFloor(s, integrator, f.fastestApproach);
   c.time = clock(s);
   c.omegaMax = f.omegaMax;
   c.dampingRatio = f.dampingRatio;
@@ -137,19 +154,20 @@ std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrato
 /// A fixed step at the start, or after a change of step, integrator or material: refused
 /// (ConfigError) above the network's step; with no contact yet, above the binary fallback,
 /// which Gear5 keeps throughout (measureStep says why).
-void requireAllowedStep(const SimulationState& s, double dt, Integrator integrator) {
+StepCheck requireAllowedStep(const SimulationState& s, double dt, Integrator integrator) {
   const StepCheck c = measureStep(s, integrator, dt);
   if (c.contacts == 0 || integrator == Integrator::Gear5) {
     // Nothing to bound yet: the stiffest binary contact's fraction, set from the worst bed
     // measured (bench/RESULTS.md, "Gear in a bed"), stands in until contacts form.
     requireStableStep(dt, s.contactScale, integrator);
     requireStableTangentialDamping(s.config.material, dt, integrator);
-    if (c.contacts == 0) return;
+    if (c.contacts == 0) return c;
   }
   if (!(dt <= c.networkStep)) {
     throw TimeStepError(aboveNetworkStep(dt, c, integrator) + "; use at most " +
                         str(c.networkStep) + " s, or time_step = \"auto\"");
   }
+  return c;
 }
 
 /// The check of the step against the network (StepControl): with step.automatic the step is
@@ -160,6 +178,7 @@ void checkStep(SimulationState& s) {
   const double target = targetStep(s);
   StepCheck c = measureStep(s, s.config.integrator, target);
   s.stepCheck = c;
+  s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
 
   if (s.config.step.automatic) {
     if (!(c.chosenStep > 0.0) || !std::isfinite(c.chosenStep)) {
@@ -428,7 +447,9 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   if (config.step.automatic) {
     checkStep(s);
   } else {
-    requireAllowedStep(s, config.timeStep, config.integrator);
+    // The approach speeds it measured are the run's first (StepCounters::fastestApproach).
+    const StepCheck c = requireAllowedStep(s, config.timeStep, config.integrator);
+    s.counters.fastestApproach = c.approachSpeed;
   }
 }
 

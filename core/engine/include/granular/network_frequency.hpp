@@ -62,6 +62,10 @@ struct NetworkFrequency {
   /// tangential γt √(m_ij/k_t)/2 with friction, rolling η_r): the stand-in for the least damped
   /// mode, which Gear's interval needs (undamped, Gear5 grows; physics.md §2.15).
   double smallestDampingRatio = 0;
+  /// The fastest closing speed among the contacts counted, touching or about to touch [m/s]
+  /// (0 with none): the approach speeds the run actually has, which a Hertz contact's duration
+  /// depends on (the step control's accuracy floor follows it).
+  double fastestApproach = 0;
 };
 NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32,
                                        double lookahead = 0.0);

@@ -74,8 +74,11 @@ struct SimulationConfig {
   /// maxStableStep()); with step.automatic the first step, after that the chosen one.
   double timeStep = 1e-4;
   StepControl step;
-  double skin = 0.0;         ///< neighbour-list skin [m]; 0 picks 0.3·smallest radius
-  double impactSpeed = 1.0;  ///< largest expected approach speed [m/s] (Hertz step check only)
+  double skin = 0.0;  ///< neighbour-list skin [m]; 0 picks 0.3·smallest radius
+  /// Largest expected approach speed [m/s] (Hertz only: its contact is shorter at a higher
+  /// speed): the binary step limit and the accuracy floor use it, and the step control's checks
+  /// use the faster of it and the speeds they measure.
+  double impactSpeed = 1.0;
   /// Threads for the force pass and the integrator [-]; 0 = OpenMP's default (OMP_NUM_THREADS
   /// or all cores). Results are identical, bit for bit, for any count.
   int threads = 0;
@@ -159,6 +162,8 @@ struct StepCounters {
   /// Checks that found a fixed step above the network's (OnUnstable::Warn) [-].
   std::uint64_t unstableChecks = 0;
   double worstStepRatio = 0;  ///< the largest Δt / network step those checks found [-]
+  /// The fastest closing speed any check found (StepCheck::approachSpeed) [m/s].
+  double fastestApproach = 0;
   /// The smallest and largest step taken since the start [s] (with step.automatic, the chosen
   /// range; steps shortened to land on a time included).
   double smallestStep = 0, largestStep = 0;
@@ -172,8 +177,12 @@ struct StepCheck {
   double dampingRatio = 0;   ///< Γ / (2 ω_max) [-]
   std::size_t particle = 0;  ///< whose row set ω_max
   std::size_t contacts = 0;  ///< touching contacts, and those about to form, counted
-  double accuracyStep = 0;   ///< t_c / N [s]
-  double chosenStep = 0;     ///< the step taken from then on [s]
+  double accuracyStep = 0;   ///< t_c / N [s], t_c at the faster of approachSpeed and impactSpeed
+  /// The fastest closing speed among the contacts touching or about to touch [m/s]: a Hertz
+  /// contact's duration, hence the accuracy floor, follows it where it exceeds the expected
+  /// config.impactSpeed.
+  double approachSpeed = 0;
+  double chosenStep = 0;  ///< the step taken from then on [s]
 };
 
 /// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
