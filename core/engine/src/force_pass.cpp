@@ -1104,7 +1104,7 @@ bool setForceKernelBuild(ForceKernelBuild build) {
 }
 
 int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
-  const int threads = s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
+  const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
   int failures = 0;
   withLaw(s, [&]<bool kFriction, NormalLaw kLaw, unsigned kOptional>() {
     failures = forcePass<kFriction, kLaw, kOptional>(s, dt, threads, after);

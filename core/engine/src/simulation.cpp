@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -87,8 +88,6 @@ double clock(const SimulationState& s) {
   return s.timeOrigin + static_cast<double>(s.stepsSinceOrigin) * s.config.timeStep;
 }
 
-/// The network's stable step for `integrator` now, counting the contacts that may form within
-/// two check intervals at step `dt` (docs/physics.md §2.16).
 /// The accuracy floor t_c / N of the stiffest contact at the approach speed `approach` [m/s]:
 /// a Hertz contact is shorter at a higher speed, so the floor follows the run's fastest
 /// approach wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend
@@ -105,6 +104,8 @@ double accuracyFloor(const SimulationState& s, Integrator integrator, double app
   return floor;
 }
 
+/// The network's stable step for `integrator` now, counting the contacts that may form within
+/// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor.
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
   const StepControl& control = s.config.step;
   // Contacts that form within two check intervals count; an automatic step may grow to its
@@ -393,7 +394,7 @@ void rebuildList(SimulationState& s) {
   // Split by space, the particles first go where they now belong, with their springs; the
   // list is then rebuilt from what each rank holds (domain_split.hpp).
   if (s.split.domains) redistribute(s);
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, passThreads(s));
   if (s.split.domains) afterSplitRebuild(s);
   ++s.counters.rebuilds;
 }
@@ -472,14 +473,14 @@ namespace {
 ///   7. accumulate dissipation and work (trapezoidal rule on the powers of passes 4).
 /// With `predictNext`, pass 6 also runs the next step's pass 1 in the same loop (the same bits:
 /// each value is computed alone) and the next step skips its own.
-void advance(SimulationState& s, bool predictNext) {
+void advanceOnce(SimulationState& s, bool predictNext) {
   Particles& p = s.particles;
   const double dt = s.config.timeStep;
   const bool gear = s.config.integrator == Integrator::Gear5;
   // A split run's redistribution at a rebuild changes the particles held: n and the motions
   // are taken again then.
   std::size_t n = p.size();
-  const int threads = s.config.threads;
+  const int threads = passThreads(s);
   const std::size_t teams = static_cast<std::size_t>(threads > 0 ? threads : omp_get_max_threads());
 
   // 1. Predict, translation and rotation in one pass over particle ranges.
@@ -619,6 +620,18 @@ void advance(SimulationState& s, bool predictNext) {
   } else {
     ++s.stepsSinceCheck;
   }
+}
+
+/// One step (advanceOnce), timed for the thread governor where OpenMP's count is left to it.
+void advance(SimulationState& s, bool predictNext) {
+  if (s.config.threads != 0 || omp_get_max_threads() == 1) {
+    advanceOnce(s, predictNext);
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  advanceOnce(s, predictNext);
+  s.governor.stepTook(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "granular/domain_map.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
+#include "thread_governor.hpp"
 
 namespace granular {
 
@@ -268,6 +269,9 @@ struct DomainSplit {
 
 struct SimulationState {
   SimulationConfig config;
+  /// Between all threads and one, for a run left to OpenMP's count (config.threads = 0): the
+  /// faster now (thread_governor.hpp; not checkpointed, the results do not depend on it).
+  ThreadGovernor governor;
   Particles particles;
   std::vector<Wall> walls;
   /// The clock is timeOrigin + stepsSinceOrigin·Δt rather than a running sum, so that sampled
@@ -326,5 +330,11 @@ struct SimulationAccess {
   static const SimulationState& state(const Simulation& sim) { return *sim.state_; }
   static Simulation make(std::unique_ptr<SimulationState> s) { return Simulation(std::move(s)); }
 };
+
+/// The threads the engine's passes take (0: all of OpenMP's): the configured count, or the
+/// governor's choice where none is configured.
+inline int passThreads(const SimulationState& s) {
+  return s.config.threads > 0 ? s.config.threads : s.governor.threads();
+}
 
 }  // namespace granular

@@ -1,0 +1,81 @@
+/// The thread governor (engine/src/thread_governor.hpp): between all threads and one, the faster
+/// by timing; and the run's bits whatever it chooses, when.
+#include <gtest/gtest.h>
+
+#include <omp.h>
+
+#include "granular/simulation.hpp"
+#include "physics_fixtures.hpp"
+#include "simulation_state.hpp"
+#include "thread_governor.hpp"
+
+using namespace granular;
+
+namespace {
+
+/// Feeds `steps` steps to the governor, each taking `all` seconds with every thread and `one`
+/// with one thread; the count it steps with at the end.
+int feed(ThreadGovernor& g, std::uint64_t steps, double all, double one) {
+  for (std::uint64_t k = 0; k < steps; ++k) g.stepTook(g.threads() == 0 ? all : one);
+  return g.threads();
+}
+
+TEST(ThreadGovernor, KeepsAllThreadsOnAQuietMachine) {
+  ThreadGovernor g;
+  // Two threads at 1.0, one at 1.8: every trial of one thread loses.
+  EXPECT_EQ(feed(g, 10 * ThreadGovernor::kPeriod, 1.0, 1.8), 0);
+}
+
+TEST(ThreadGovernor, TakesOneThreadBesideABusyProcessAndAllAgainWhenItEnds) {
+  ThreadGovernor g;
+  // Spinning threads beside a busy process: two threads at 6.0, one at 1.9. The first trial
+  // comes after two windows.
+  EXPECT_EQ(feed(g, 3 * ThreadGovernor::kWindow, 6.0, 1.9), 1);
+  EXPECT_EQ(feed(g, 5 * ThreadGovernor::kPeriod, 6.0, 1.9), 1);  // its trials of all lose
+  // The other process ends: all threads at 1.0 win the next trial.
+  EXPECT_EQ(feed(g, 2 * ThreadGovernor::kPeriod, 1.0, 1.8), 0);
+}
+
+TEST(ThreadGovernor, AMarginalWinIsNoReasonToSwitch) {
+  ThreadGovernor g;
+  EXPECT_EQ(feed(g, 5 * ThreadGovernor::kPeriod, 1.0, 0.95), 0);  // 5 % faster: noise
+  EXPECT_EQ(feed(g, 2 * ThreadGovernor::kPeriod, 1.0, 0.8), 1);   // 20 % faster: taken
+}
+
+TEST(ThreadGovernor, SlowStepsAmongTheWindowsDoNotDecide) {
+  // A rebuild or a check makes a step several times slower now and then: the median is not
+  // moved by it. One step in five of the trial at 10.0, the rest at 0.8: one thread still wins.
+  ThreadGovernor g;
+  int step = 0;
+  for (std::uint64_t k = 0; k < 3 * ThreadGovernor::kWindow; ++k, ++step) {
+    g.stepTook(g.threads() == 0 ? 1.0 : (step % 5 == 0 ? 10.0 : 0.8));
+  }
+  EXPECT_EQ(g.threads(), 1);
+}
+
+TEST(ThreadGovernor, SwitchingCountsMidRunGivesTheSameBits) {
+  if (omp_get_max_threads() < 2) GTEST_SKIP() << "one thread only";
+  // A frictional bed falling and settling (rebuilds, springs), stepped at one thread, and at a
+  // count switched between all and one every few steps, in and out of predicted-ahead runs.
+  auto bed = [](int threads) {
+    SimulationConfig cfg;
+    cfg.material.friction = 0.3;
+    cfg.timeStep = 1.5e-4;
+    cfg.threads = threads;
+    return granular::testing::fallingGrid(6, 6, 4, cfg, 0.3);
+  };
+  Simulation fixed = bed(1);
+  Simulation switched = bed(0);
+  for (int block = 0; block < 40; ++block) {
+    auto& state = const_cast<SimulationState&>(SimulationAccess::state(switched));
+    state.governor.choose(block % 3 == 0 ? 1 : 0);
+    fixed.run(7);
+    switched.run(7);
+    switched.step();
+    fixed.step();
+  }
+  EXPECT_EQ(switched.stateHash(), fixed.stateHash());
+  EXPECT_EQ(switched.energy().total(), fixed.energy().total());
+}
+
+}  // namespace
