@@ -146,7 +146,7 @@ std::string paperReport(const std::vector<CaseOutcome>& cases,
   out << "# Reproduction of Balevičius & Markauskas (2007)\n\n"
       << "Written by `granular paper` on " << date << "; " << format("%.1f", totalWallSeconds)
       << " s wall-clock on " << std::thread::hardware_concurrency()
-      << " hardware threads (the engine runs on one). Stresses in Pa, compression negative, "
+      << " hardware threads. Stresses in Pa, compression negative, "
          "as in the paper. The stage-2 values \"at t = 1 s\" are averages over its last "
       << format("%g", kEndWindow)
       << " s (ten contact durations): wall reactions exactly (from their impulses), Eq. (1) over "

@@ -5,9 +5,15 @@
 
 namespace granular {
 
-double ThreadGovernor::median(std::array<double, kWindow> times) {
-  std::nth_element(times.begin(), times.begin() + kWindow / 2, times.end());
-  return times[kWindow / 2];
+double ThreadGovernor::typical(const std::array<double, kWindow>& times) {
+  // The mean: a busy machine's cost is in its tail of steps that waited a time slice for a
+  // core. Without the slowest step, which a neighbour-list rebuild or a step check may be.
+  double sum = 0.0, slowest = 0.0;
+  for (double t : times) {
+    sum += t;
+    slowest = std::max(slowest, t);
+  }
+  return (sum - slowest) / double(kWindow - 1);
 }
 
 void ThreadGovernor::stepTook(double seconds) {
@@ -15,20 +21,23 @@ void ThreadGovernor::stepTook(double seconds) {
     // The last kWindow steps at the current count: the reference a trial is judged against.
     reference_[stepsSinceTrial_ % kWindow] = seconds;
     ++stepsSinceTrial_;
-    // The first trial as soon as a reference is whole; then every kPeriod steps.
-    const bool first = referenceMedian_ == 0.0 && stepsSinceTrial_ >= 2 * kWindow;
-    if (first || stepsSinceTrial_ >= kPeriod) {
-      referenceMedian_ = median(reference_);
+    secondsSinceTrial_ += seconds;
+    // Once the reference is of this count alone, and the trials' share of the time is small.
+    if (stepsSinceTrial_ >= 2 * kWindow && secondsSinceTrial_ >= kShare * lastTrialSeconds_) {
+      referenceTypical_ = typical(reference_);
       trialing_ = true;
       filled_ = 0;
+      lastTrialSeconds_ = 0.0;
     }
     return;
   }
   trial_[filled_++] = seconds;
+  lastTrialSeconds_ += seconds;
   if (filled_ < kWindow) return;
-  if (median(trial_) <= kMargin * referenceMedian_) current_ = other();
+  if (typical(trial_) <= kMargin * referenceTypical_) current_ = other();
   trialing_ = false;
   stepsSinceTrial_ = 0;
+  secondsSinceTrial_ = 0.0;
 }
 
 }  // namespace granular

@@ -4,9 +4,13 @@
 /// busy with other work, a thread waiting at a barrier spins on a core the thread it waits for
 /// needs, and the other program takes turns with both: a run of two threads became six times
 /// slower beside one busy process, where one thread, with a core to itself, is only as slow as
-/// one thread is (bench/RESULTS.md, "A busy machine"). Every kPeriod steps the governor times
-/// kWindow steps with the other count and keeps the faster (their median step, by a margin).
-/// The results are the same bits for any count, so the choice changes only the time taken.
+/// one thread is (bench/RESULTS.md, "A busy machine"). Now and then the governor times kWindow
+/// steps with the other count and keeps the faster (their mean step against that of the last
+/// kWindow steps, each without its slowest step, by a margin). A trial comes once the steps since
+/// the last one have taken kShare times as long as that trial did: the trials cost a small, fixed
+/// share of the run whether a step takes microseconds or seconds, and a wrong choice lasts that
+/// long at most. The results are the same bits for any count, so the choice changes only the time
+/// taken.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -15,9 +19,11 @@ namespace granular {
 
 class ThreadGovernor {
  public:
-  /// Steps between trials of the other count, and steps a trial (or a reference) times.
-  static constexpr std::uint64_t kPeriod = 2000, kWindow = 15;
-  /// The other count is taken when its median step is this fraction of the current one's or
+  /// Steps a trial (or its reference) times.
+  static constexpr std::size_t kWindow = 15;
+  /// The steps between two trials take at least this many times as long as the last trial.
+  static constexpr double kShare = 40.0;
+  /// The other count is taken when its typical step is this fraction of the current one's or
   /// less: a trial must be clearly faster, not faster by the noise of a busy machine.
   static constexpr double kMargin = 0.9;
 
@@ -36,15 +42,18 @@ class ThreadGovernor {
 
  private:
   int other() const { return current_ == 0 ? 1 : 0; }
-  static double median(std::array<double, kWindow> times);
+  /// A window's typical step: its mean without its slowest step [s].
+  static double typical(const std::array<double, kWindow>& times);
 
   int current_ = 0;  ///< the count stepped with between trials: 0 (all) or 1
   bool trialing_ = false;
-  std::uint64_t stepsSinceTrial_ = 0;
-  std::size_t filled_ = 0;                   ///< times of the window so far
+  std::size_t stepsSinceTrial_ = 0;
+  double secondsSinceTrial_ = 0.0;           ///< the steps' time since the last trial [s]
+  double lastTrialSeconds_ = 0.0;            ///< the last trial's steps' time [s]
+  std::size_t filled_ = 0;                   ///< steps of the trial so far
   std::array<double, kWindow> reference_{};  ///< the last steps at current_ [s]
   std::array<double, kWindow> trial_{};      ///< the trial's steps [s]
-  double referenceMedian_ = 0.0;
+  double referenceTypical_ = 0.0;
 };
 
 }  // namespace granular
