@@ -8,7 +8,7 @@
 ///
 /// On several threads each thread owns a run of particles and adds their contacts' forces
 /// straight to them; the few pairs that straddle two threads are computed by both, each adding
-/// its own particle's share (ForcePlan in simulation_state.hpp), so no thread waits. Every
+/// its own particle's share (ForcePlan, force_plan.hpp), so no thread waits. Every
 /// particle receives its contacts in the same order for any thread count, and the sums run in
 /// fixed blocks, so the result does not depend on the thread count, bit for bit.
 #include <omp.h>
@@ -309,69 +309,6 @@ inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
 }
 
 // ---- 2. The hot pass ----------------------------------------------------------------------
-
-/// Builds list.plan (simulation_state.hpp) for n particles, `walls` walls and `threads` parts.
-void buildForcePlan(NeighbourList& list, std::size_t walls, int threads) {
-  ForcePlan& plan = list.plan;
-  const std::vector<std::uint32_t>& blockParticle = list.blockParticle;
-  const std::vector<std::uint32_t>& blockPair = list.blockPair;
-  const std::size_t blocks = blockParticle.size() - 1;
-  // Each block's wall candidates (ascending particle in each wall's list).
-  plan.blockWall.resize((blocks + 1) * walls);
-  for (std::size_t w = 0; w < walls; ++w) {
-    const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
-    for (std::size_t b = 0; b <= blocks; ++b) {
-      plan.blockWall[b * walls + w] = static_cast<std::uint32_t>(
-          std::lower_bound(candidates.begin(), candidates.end(), blockParticle[b]) -
-          candidates.begin());
-    }
-  }
-  // Threads: runs of blocks of about equal work (contacts and particles).
-  auto workBefore = [&](std::size_t b) {
-    std::size_t work = blockPair[b] + blockParticle[b];
-    for (std::size_t w = 0; w < walls; ++w) work += plan.blockWall[b * walls + w];
-    return work;
-  };
-  const std::size_t total = workBefore(blocks);
-  plan.threadBlock.assign(static_cast<std::size_t>(threads) + 1,
-                          static_cast<std::uint32_t>(blocks));
-  plan.threadBlock[0] = 0;
-  for (std::size_t t = 1, b = 0; t < static_cast<std::size_t>(threads); ++t) {
-    while (b < blocks && workBefore(b) * threads < total * t) ++b;
-    plan.threadBlock[t] = static_cast<std::uint32_t>(b);
-  }
-  // Crossing pairs, by the thread of their first; then by the thread of their second.
-  plan.crossing.clear();
-  plan.crossingFirst.clear();
-  for (int t = 0; t < threads; ++t) {
-    const std::uint32_t ownEnd = blockParticle[plan.threadBlock[t + 1]];
-    for (std::uint32_t i = blockParticle[plan.threadBlock[t]]; i < ownEnd; ++i) {
-      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-        if (list.second[k] < ownEnd) continue;
-        plan.crossing.push_back(k);
-        plan.crossingFirst.push_back(i);
-      }
-    }
-  }
-  plan.incoming.resize(plan.crossing.size());
-  for (std::size_t q = 0; q < plan.crossing.size(); ++q)
-    plan.incoming[q] = static_cast<std::uint32_t>(q);
-  auto secondOf = [&](std::uint32_t q) { return list.second[plan.crossing[q]]; };
-  // Stable: pairs with the same second stay in ascending first.
-  std::stable_sort(plan.incoming.begin(), plan.incoming.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return secondOf(a) < secondOf(b); });
-  plan.incomingStart.resize(static_cast<std::size_t>(threads) + 1);
-  for (int t = 0; t <= threads; ++t) {
-    const std::uint32_t ownBegin = blockParticle[plan.threadBlock[t]];
-    plan.incomingStart[t] = static_cast<std::uint32_t>(
-        std::partition_point(plan.incoming.begin(), plan.incoming.end(),
-                             [&](std::uint32_t q) { return secondOf(q) < ownBegin; }) -
-        plan.incoming.begin());
-  }
-  plan.incomingStart[threads] = static_cast<std::uint32_t>(plan.incoming.size());
-  plan.threads = threads;
-  plan.valid = true;
-}
 
 /// One block's springs rewritten in place by blockPairs, as records of S doubles: the stored
 /// record of the pair holding the `read`-th one is at source + (read - sourceOffset) S; the
