@@ -1,11 +1,12 @@
-/// The contact law's loops and the integrators' loops exist in two builds (baseline x86-64 and
-/// AVX2, core/engine/src/force_pass.cpp and integrators.cpp) and the CPU picks one. They must give
+/// The contact law's loops, the integrators' loops and the exact sums' exist in two builds
+/// (baseline x86-64 and AVX2, granular/simd_build.hpp) and the CPU picks one. They must give
 /// the same bits: a run on one machine reproduces on another whichever build each has.
 #include <gtest/gtest.h>
 
 #include <vector>
 
 #include "force_pass.hpp"
+#include "granular/simd_build.hpp"
 #include "physics_fixtures.hpp"
 
 using namespace granular;
@@ -16,11 +17,11 @@ namespace {
 /// Restores the CPU's own choice when a test ends.
 class KernelBuildGuard {
  public:
-  KernelBuildGuard() : saved_(forceKernelBuild()) {}
-  ~KernelBuildGuard() { setForceKernelBuild(saved_); }
+  KernelBuildGuard() : saved_(simdBuild()) {}
+  ~KernelBuildGuard() { setSimdBuild(saved_); }
 
  private:
-  ForceKernelBuild saved_;
+  SimdBuild saved_;
 };
 
 struct RunRecord {
@@ -30,8 +31,8 @@ struct RunRecord {
   std::uint64_t contacts = 0;
 };
 
-RunRecord runWith(ForceKernelBuild build, const SimulationConfig& cfg) {
-  EXPECT_TRUE(setForceKernelBuild(build));
+RunRecord runWith(SimdBuild build, const SimulationConfig& cfg) {
+  EXPECT_TRUE(setSimdBuild(build));
   Simulation sim = fallingGrid(4, 4, 4, cfg, 0.5, 5);
   sim.run(2500);
   RunRecord r;
@@ -46,7 +47,7 @@ RunRecord runWith(ForceKernelBuild build, const SimulationConfig& cfg) {
 
 TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
   KernelBuildGuard guard;
-  if (!setForceKernelBuild(ForceKernelBuild::Avx2)) {
+  if (!setSimdBuild(SimdBuild::Avx2)) {
     GTEST_SKIP() << "this CPU has no AVX2";
   }
   for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
@@ -57,8 +58,9 @@ TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
         cfg.material.friction = friction;
         cfg.material.normalLaw = law;
         cfg.timeStep = 1e-4;
-        const RunRecord base = runWith(ForceKernelBuild::Baseline, cfg);
-        const RunRecord wide = runWith(ForceKernelBuild::Avx2, cfg);
+        cfg.exactSums = law == NormalLaw::Hertz;  // the exact sums' loops follow the switch too
+        const RunRecord base = runWith(SimdBuild::Baseline, cfg);
+        const RunRecord wide = runWith(SimdBuild::Avx2, cfg);
         const std::string what = std::string(integrator == Integrator::Gear5 ? "gear5" : "verlet") +
                                  ", mu " + std::to_string(friction) +
                                  (law == NormalLaw::Hertz ? ", Hertz" : ", Hooke");
@@ -84,6 +86,6 @@ TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
 
 TEST(ForceKernels, TheCpusChoiceIsReported) {
   KernelBuildGuard guard;
-  EXPECT_TRUE(setForceKernelBuild(ForceKernelBuild::Baseline));  // every x86-64 CPU runs it
-  EXPECT_EQ(forceKernelBuild(), ForceKernelBuild::Baseline);
+  EXPECT_TRUE(setSimdBuild(SimdBuild::Baseline));  // every x86-64 CPU runs it
+  EXPECT_EQ(simdBuild(), SimdBuild::Baseline);
 }

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <limits>
 
+#include "granular/simd_build.hpp"
+
 namespace granular {
 namespace {
 
@@ -126,7 +128,7 @@ double remainder(double x, double c1, double c2, double c3) {
 // overflowing, g_3 subnormal) and for infinities and NaN, every term is added alone.
 void ExactSum::addAll(const double* x, std::size_t count) {
   constexpr std::size_t kBatch = 1024;
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = simdBuild() == SimdBuild::Avx2;  // the process's one choice
   for (std::size_t start = 0; start < count; start += kBatch) {
     const std::size_t m = std::min(kBatch, count - start);
     const double* batch = x + start;

@@ -45,6 +45,17 @@ struct StoredParameter {
   double value = 0;
 };
 
+/// The contact model's terms when format 5 began to store parameters and accounts by key.
+bool formatBeganWith(std::string_view term) {
+  constexpr std::string_view kTerms[] = {"body",
+                                         "normal_elastic",
+                                         "normal_damping",
+                                         "tangential_spring",
+                                         "tangential_damping",
+                                         "rolling_resistance"};
+  return std::find(std::begin(kTerms), std::end(kTerms), term) != std::end(kTerms);
+}
+
 template <class Io>
 void fields(Io& io, StoredParameter& p) {
   io(p.key), io(p.value);
@@ -394,13 +405,26 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   w(data);
   bool noPull = state.config.material.noPull;  // version 4
   w(noPull);
-  std::vector<StoredParameter> material;  // version 5: every declared parameter
-  for (auto& [key, value] : materialValues(state.config.material)) material.push_back({key, value});
+  // Version 5: the material's parameters and the energy accounts by key. Those of the terms
+  // the format began with always; a later term's only where they hold something (a parameter
+  // off its default, an account not zero), so that a term added with its default (off) leaves
+  // every run's checkpoint as it was. A reader takes what the file lacks as the default (zero).
+  std::vector<StoredParameter> material;
+  for (const ParameterSpec& p : materialParameters()) {
+    const double value = p.get(state.config.material);
+    if (formatBeganWith(p.term) || std::memcmp(&value, &p.defaultValue, sizeof value) != 0) {
+      material.push_back({std::string(p.key), value});
+    }
+  }
   w(material);
-  std::vector<StoredAccount> accounts;  // version 5: every energy account by column
+  std::vector<StoredAccount> accounts;
   for (const EnergyAccountSpec& a : energyAccounts()) {
-    accounts.push_back({std::string(a.account.column), state.powers.energy[a.slot],
-                        state.energy.account[a.slot], state.energy.initialStored[a.slot]});
+    const StoredAccount account{std::string(a.account.column), state.powers.energy[a.slot],
+                                state.energy.account[a.slot], state.energy.initialStored[a.slot]};
+    if (formatBeganWith(a.term) || account.now != 0.0 || account.sinceStart != 0.0 ||
+        account.initial != 0.0) {
+      accounts.push_back(account);
+    }
   }
   w(accounts);
   StepControl step = state.config.step;  // version 6

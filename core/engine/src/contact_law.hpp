@@ -24,57 +24,31 @@
 #include <type_traits>
 #include <utility>
 
+#include "contact_constants.hpp"
 #include "granular/contact_model.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
 
-/// A term's own constants (`struct Constants` and `static Constants constants(const
-/// Parameters&)` in its file), or nothing for a term that reads only the shared ones below.
+/// The per-contact values terms keep between the law's two loops (their `betweenLoops`), and
+/// where term T's begin.
 template <class T>
-struct TermConstantsOf {
-  struct type {};
-  static type of(const Material&) { return {}; }
-};
-template <class T>
-requires requires {
-  typename T::Constants;
-}
-struct TermConstantsOf<T> {
-  using type = typename T::Constants;
-  static type of(const Material& m) { return T::constants(m); }
-};
-template <class T>
-struct TermConstantsSlot {
-  typename TermConstantsOf<T>::type value;
-};
-template <class List>
-struct ModelConstants;
-/// Every term's own constants, computed once per pass from the material.
-template <class... Terms>
-struct ModelConstants<TermList<Terms...>> : TermConstantsSlot<Terms>... {
-  explicit ModelConstants(const Material& m)
-      : TermConstantsSlot<Terms>{TermConstantsOf<Terms>::of(m)}... {}
-};
-
-/// Constants of the law for a scene, computed once.
-struct ContactConstants {
-  double normalCoefficient;      ///< (2/3) E/(1-ν²) [Pa]
-  double tangentialCoefficient;  ///< (8/3) G/(2-ν) [Pa]
-  double tangentialStiffness;    ///< k_t of the constant law; 0: Mindlin's, from the above [N/m]
-  double normalDamping;          ///< γn [1/s]
-  double tangentialDamping;      ///< γt [1/s]
-  double friction;               ///< μ [-]
-  double dt;                     ///< [s]
-  double normalForceFloor;       ///< 0 (no pull: F_n = max(0, ·)) or −∞ (Material::noPull) [N]
-  ModelConstants<ContactModel> terms;  ///< each term's own constants
-
-  /// Term T's own constants (its `Constants`).
-  template <class T>
-  const typename TermConstantsOf<T>::type& of() const {
-    return static_cast<const TermConstantsSlot<T>&>(terms).value;
+constexpr std::size_t betweenCount() {
+  if constexpr (requires { T::betweenLoops; }) {
+    return T::betweenLoops.size();
+  } else {
+    return 0;
   }
-};
+}
+template <class... Terms>
+constexpr std::size_t betweenSlotsIn(TermList<Terms...>) {
+  return (betweenCount<Terms>() + ... + 0);
+}
+template <class T, class... Terms>
+constexpr std::size_t betweenOffsetIn(TermList<Terms...>) {
+  return runOffset<T, Terms...>([](auto t) { return betweenCount<typename decltype(t)::type>(); });
+}
+inline constexpr std::size_t kBetweenSlots = betweenSlotsIn(ContactModel{});
 
 /// Contacts per chunk: 64 fill the arrays below with ≈ 27 KB, about what an L1 data cache holds
 /// (32-48 KB), and give the loops long enough runs of vector instructions.
@@ -104,17 +78,17 @@ struct ContactChunk {
   // The contact's history, every term's slots (ContactHistory): the stored one in, the advanced
   // one out.
   alignas(64) double historyRows[kHistorySlots][kChunk];
-  // Between the law's two loops (friction only): trial tangential force [N], tangential
-  // velocity [m/s], k_t [N/m], Coulomb limit μ F_n [N].
+  // Between the law's two loops (friction only): the lane's trial tangential force [N] and
+  // tangential velocity [m/s], and the terms' own values (betweenLoops).
   alignas(64) double tx[kChunk], ty[kChunk], tz[kChunk];
   alignas(64) double vtx[kChunk], vty[kChunk], vtz[kChunk];
-  alignas(64) double kt[kChunk], limit[kChunk];
+  alignas(64) double betweenRows[kBetweenSlots > 0 ? kBetweenSlots : 1][kChunk];
   // Outputs: force on i [N], n × F [N] (friction only), and this contact's value of each
   // energy account (kEnergySlotTable: an energy, a power or an increment, by its kind).
   alignas(64) double fx[kChunk], fy[kChunk], fz[kChunk];
   alignas(64) double mx[kChunk], my[kChunk], mz[kChunk];
-  /// A term's pure torque on i [N m] (−it on the other body), written by the term's loop where
-  /// the build includes a term that declares `pureTorque` (kPureTorque).
+  /// The terms' couple on i [N m] (−it on the other body), where the build includes a term
+  /// that declares `pureTorque` (kPureTorque).
   alignas(64) double qx[kChunk], qy[kChunk], qz[kChunk];
   alignas(64) double energyRows[kEnergySlots][kChunk];
 
@@ -122,6 +96,11 @@ struct ContactChunk {
   template <class T>
   double* history(std::size_t slot) {
     return historyRows[kHistoryOffset<T> + slot];
+  }
+  /// Term T's value `slot` kept between the law's loops (its betweenLoops), one per contact.
+  template <class T>
+  double* between(std::size_t slot) {
+    return betweenRows[betweenOffsetIn<T>(ContactModel{}) + slot];
   }
   /// Term T's energy account `slot` (its declared order), one entry per contact.
   template <class T>
@@ -229,6 +208,18 @@ template <bool kFriction, unsigned kOptional>
 inline constexpr bool kPureTorque = pureTorqueIn(ContactModel{}, std::bool_constant<kFriction>{},
                                                  std::integral_constant<unsigned, kOptional>{});
 
+/// Whether a build includes a term that reads the bodies' own radii, masses and (with friction)
+/// spins, the raw rows ri, rj, mi, mj, w: a wall contact then gets the particle's as i's and
+/// the wall's as j's (no spin, infinite radius and mass).
+template <class... Terms, bool kFriction, unsigned kOptional>
+constexpr bool readsBodiesIn(TermList<Terms...>, std::bool_constant<kFriction>,
+                             std::integral_constant<unsigned, kOptional>) {
+  return ((kIncludes<Terms, kFriction, kOptional> && requires { Terms::readsBodies; }) || ...);
+}
+template <bool kFriction, unsigned kOptional>
+inline constexpr bool kReadsBodies = readsBodiesIn(ContactModel{}, std::bool_constant<kFriction>{},
+                                                   std::integral_constant<unsigned, kOptional>{});
+
 template <bool kFriction, unsigned kOptional, class... Terms>
 constexpr std::array<bool, kEnergySlots> includedEnergySlotsIn(TermList<Terms...>) {
   std::array<bool, kEnergySlots> out{};
@@ -318,6 +309,14 @@ template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance, cla
     c.tx[e] = lane.tx;
     c.ty[e] = lane.ty;
     c.tz[e] = lane.tz;
+    c.vtx[e] = lane.vtx;
+    c.vty[e] = lane.vty;
+    c.vtz[e] = lane.vtz;
+  }
+  if constexpr (kPureTorque<kFriction, kOptional>) {
+    c.qx[e] = lane.qx;
+    c.qy[e] = lane.qy;
+    c.qz[e] = lane.qz;
   }
 }
 
@@ -329,6 +328,9 @@ template <unsigned kOptional, bool kAdvance, class... Terms>
   lane.tx = c.tx[e];
   lane.ty = c.ty[e];
   lane.tz = c.tz[e];
+  lane.vtx = c.vtx[e];
+  lane.vty = c.vty[e];
+  lane.vtz = c.vtz[e];
   (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
   const double fx = c.fx[e] + lane.tx, fy = c.fy[e] + lane.ty, fz = c.fz[e] + lane.tz;
   c.fx[e] = fx;

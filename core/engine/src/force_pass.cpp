@@ -21,37 +21,17 @@
 #include "contact_law.hpp"
 #include "contact_sums.hpp"
 #include "force_pass.hpp"
+#include "granular/simd_build.hpp"
 #include "pair_springs.hpp"
 
 namespace granular {
 namespace {
 
-ContactConstants constantsOf(const SimulationConfig& cfg, double dt) {
-  const Material& m = cfg.material;
-  return {m.normalCoefficient(),
-          m.tangentialCoefficient(),
-          m.tangentialLaw == TangentialLaw::Constant ? m.tangentialStiffness : 0.0,
-          m.normalDamping,
-          m.tangentialDamping,
-          m.friction,
-          dt,
-          m.noPull ? 0.0 : -std::numeric_limits<double>::infinity(),
-          ModelConstants<ContactModel>(m)};
-}
-
 // ---- 0. The chunk kernels, built twice ----------------------------------------------------
 
-/// The law's loops (contact_law.hpp) are built twice: for the baseline x86-64 (SSE2, 2 doubles
-/// per instruction) and for AVX2 (4), chosen once by what the CPU has; elsewhere only the
-/// plain build exists. Both builds give the same bits (no reductions, no fused multiply-add in
-/// the loops); tests/test_force_kernels.cpp checks it. Each wrapper inlines the kernels, so the
-/// whole loop is compiled for its target, while nothing shared (std::, Eigen) is.
-struct ChunkKernels {
-  void (*geometry)(ContactChunk&, std::size_t, bool friction);
-  void (*law)(const ContactConstants&, ContactChunk&, std::size_t, bool friction, NormalLaw,
-              bool advance, unsigned optional);
-};
-
+/// The law's loops (contact_law.hpp) run in the process's vector build (simdDispatch,
+/// granular/simd_build.hpp): each body below inlines the kernels, so the whole loop is compiled
+/// for that target; tests/test_force_kernels.cpp checks that the builds give the same bits.
 [[gnu::always_inline]] inline void geometryBody(ContactChunk& c, std::size_t m, bool friction) {
   friction ? pairGeometry<true>(c, m) : pairGeometry<false>(c, m);
 }
@@ -93,44 +73,13 @@ using OptionalMasks = std::make_integer_sequence<unsigned, (1u << kOptionalTerms
   lawOfMask(OptionalMasks{}, constants, c, m, friction, law, advance, optional);
 }
 
-void geometryBaseline(ContactChunk& c, std::size_t m, bool friction) {
-  geometryBody(c, m, friction);
+/// The chunk's geometry (pairs), then the law, in the process's build.
+void geometry(ContactChunk& c, std::size_t m, bool friction) {
+  simdDispatch<geometryBody>(c, m, friction);
 }
-void lawBaseline(const ContactConstants& constants, ContactChunk& c, std::size_t m, bool friction,
-                 NormalLaw law, bool advance, unsigned optional) {
-  lawBody(constants, c, m, friction, law, advance, optional);
-}
-
-#if defined(__x86_64__)
-[[gnu::target("avx2")]] void geometryAvx2(ContactChunk& c, std::size_t m, bool friction) {
-  geometryBody(c, m, friction);
-}
-[[gnu::target("avx2")]] void lawAvx2(const ContactConstants& constants, ContactChunk& c,
-                                     std::size_t m, bool friction, NormalLaw law, bool advance,
-                                     unsigned optional) {
-  lawBody(constants, c, m, friction, law, advance, optional);
-}
-#endif
-
-bool cpuHasAvx2() {
-#if defined(__x86_64__)
-  return __builtin_cpu_supports("avx2");
-#else
-  return false;
-#endif
-}
-
-ForceKernelBuild& selectedBuild() {
-  static ForceKernelBuild build =
-      cpuHasAvx2() ? ForceKernelBuild::Avx2 : ForceKernelBuild::Baseline;
-  return build;
-}
-
-ChunkKernels kernels() {
-#if defined(__x86_64__)
-  if (selectedBuild() == ForceKernelBuild::Avx2) return {geometryAvx2, lawAvx2};
-#endif
-  return {geometryBaseline, lawBaseline};
+void law(const ContactConstants& constants, ContactChunk& c, std::size_t m, bool friction,
+         NormalLaw normalLaw, bool advance, unsigned optional) {
+  simdDispatch<lawBody>(constants, c, m, friction, normalLaw, advance, optional);
 }
 
 // ---- 1. Chunks of contacts in and out -----------------------------------------------------
@@ -234,9 +183,9 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
 
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
-/// points from the particle towards the wall. In a build with a term acting on the bodies'
-/// relative spin (kPureTorque) the raw columns get the particle's spin, radius and mass
-/// as i's, and the wall's as j's: no spin, infinite radius and mass.
+/// points from the particle towards the wall. In a build with a term that reads the bodies
+/// (kReadsBodies) the raw columns get the particle's radius, mass and spin as i's, and the
+/// wall's as j's: infinite radius and mass, no spin.
 template <bool kFriction, unsigned kOptional>
 void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
                       ContactChunk& c, std::size_t m) {
@@ -265,13 +214,15 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
       c.cz[e] = contactVelocity.z();
       loadSpring<kFriction, kOptional>(list.wallHistory[w][k], c, e);
     }
-    if constexpr (kPureTorque<kFriction, kOptional>) {
+    if constexpr (kReadsBodies<kFriction, kOptional>) {
       constexpr double kInfinite = std::numeric_limits<double>::infinity();
-      const Vec3& wi = p.angularVelocity[i];
-      c.wix[e] = wi.x();
-      c.wiy[e] = wi.y();
-      c.wiz[e] = wi.z();
-      c.wjx[e] = c.wjy[e] = c.wjz[e] = 0.0;
+      if constexpr (kFriction) {
+        const Vec3& wi = p.angularVelocity[i];
+        c.wix[e] = wi.x();
+        c.wiy[e] = wi.y();
+        c.wiz[e] = wi.z();
+        c.wjx[e] = c.wjy[e] = c.wjz[e] = 0.0;
+      }
       c.ri[e] = p.radius[i];
       c.mi[e] = p.mass[i];
       c.rj[e] = c.mj[e] = kInfinite;
@@ -372,8 +323,7 @@ class PlannedPass {
         list_(s.neighbours),
         plan_(s.neighbours.plan),
         scratch_(s.contactScratch),
-        constants_(constantsOf(s.config, dt)),
-        kern_(kernels()),
+        constants_(s.config.material, dt),
         walls_(s.walls.size()),
         aside_(aside) {}
 
@@ -426,8 +376,8 @@ class PlannedPass {
       loadPairs<kFriction, kOptional>(p_, chunk, m, [&](std::size_t e) -> const ContactHistory& {
         return scratch_.crossingSpring[at[e]];
       });
-      kern_.geometry(chunk, m, kFriction);
-      kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
+      geometry(chunk, m, kFriction);
+      law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t j = chunk.second[e];
         s_.force[j] -= forceOf(chunk, e);
@@ -487,8 +437,8 @@ class PlannedPass {
         loadPairs<kFriction, kOptional>(
             p_, chunk, m, [](std::size_t) -> const ContactHistory& { return kNoSpring; });
       }
-      kern_.geometry(chunk, m, kFriction);
-      kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
+      geometry(chunk, m, kFriction);
+      law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
       sums.pairs(chunk, m);
       // Pairs come by ascending first particle: i's force and torque stay in registers over
       // its run of contacts (stored once when i changes), which breaks the chain of stores and
@@ -563,7 +513,7 @@ class PlannedPass {
   template <class Sums>
   void wallChunk(ContactChunk& chunk, std::size_t m, Sums& sums) {
     loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, chunk, m);
-    kern_.law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
+    law(constants_, chunk, m, kFriction, kLaw, true, kOptional);
     std::uint32_t who[kChunk];  // each contact's particle
     for (std::size_t e = 0; e < m; ++e) who[e] = list_.wallParticles[chunk.wall[e]][chunk.slot[e]];
     sums.wallContacts(chunk, m, who);
@@ -594,7 +544,6 @@ class PlannedPass {
   const ForcePlan& plan_;
   ContactScratch& scratch_;
   const ContactConstants constants_;
-  const ChunkKernels kern_;
   const std::size_t walls_;
   std::vector<double>* const aside_;
   std::size_t ownEnd_ = 0;
@@ -680,10 +629,9 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
 template <bool kFriction, NormalLaw kLaw, unsigned kOptional, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
   const SimulationState& s = state;
-  const ContactConstants c = constantsOf(s.config, s.config.timeStep);
+  const ContactConstants c(s.config.material, s.config.timeStep);
   const Particles& p = s.particles;
   const NeighbourList& list = s.neighbours;
-  const ChunkKernels kern = kernels();
   ContactChunk chunk;
   force.assign(p.size(), Vec3::Zero());
   std::optional<SpringReader> springs;  // pairs come in ascending order
@@ -695,8 +643,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, chunk);
     loadPairs<kFriction, kOptional>(
         p, chunk, m, [&](std::size_t e) -> ContactHistory { return springs->at(chunk.slot[e]); });
-    kern.geometry(chunk, m, kFriction);
-    kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
+    geometry(chunk, m, kFriction);
+    law(c, chunk, m, kFriction, kLaw, false, kOptional);
     for (std::size_t e = 0; e < m; ++e) {
       const std::uint32_t i = chunk.first[e], j = chunk.second[e];
       const Vec3 f = forceOf(chunk, e);
@@ -712,7 +660,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       const std::size_t count = std::min(kChunk, candidates - begin);
       const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, chunk);
       loadWallContacts<kFriction, kOptional>(p, list, s.walls, chunk, m);
-      kern.law(c, chunk, m, kFriction, kLaw, false, kOptional);
+      law(c, chunk, m, kFriction, kLaw, false, kOptional);
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][chunk.slot[e]];
         const Vec3 f = forceOf(chunk, e);
@@ -747,16 +695,6 @@ void withLaw(const SimulationState& s, F&& f) {
 }
 
 }  // namespace
-
-ForceKernelBuild forceKernelBuild() {
-  return selectedBuild();
-}
-
-bool setForceKernelBuild(ForceKernelBuild build) {
-  if (build == ForceKernelBuild::Avx2 && !cpuHasAvx2()) return false;
-  selectedBuild() = build;
-  return true;
-}
 
 int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
   const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();

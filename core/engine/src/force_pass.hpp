@@ -7,14 +7,6 @@
 
 namespace granular {
 
-/// Which build of the contact-law loops runs (force_pass.cpp): AVX2 where the CPU has it, the
-/// baseline x86-64 one otherwise. Both give the same bits; tests switch to compare them.
-enum class ForceKernelBuild { Baseline, Avx2 };
-ForceKernelBuild forceKernelBuild();
-/// Selects a build for the whole process; false (and nothing changed) if the CPU lacks it.
-/// Not thread-safe: call it before stepping.
-bool setForceKernelBuild(ForceKernelBuild build);
-
 /// A loop over the particles [begin, end) that returns nonzero on failure.
 using ParticleRangeLoop = std::function<int(std::size_t begin, std::size_t end)>;
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "force_pass.hpp"
+#include "granular/simd_build.hpp"
 
 namespace granular {
 namespace {
@@ -170,8 +171,8 @@ FlatMotion FlatMotion::of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivative
 namespace {
 
 // The range loops in two builds, as the force kernels (force_pass.hpp): the baseline x86-64
-// one and AVX2, chosen by forceKernelBuild(). Both give the same bits (every value is computed
-// alone, no fused multiply-add; the probe is a sum of zeros or NaN).
+// one and AVX2, chosen by simdBuild() (granular/simd_build.hpp). Both give the same bits (every
+// value is computed alone, no fused multiply-add; the probe is a sum of zeros or NaN).
 
 /// A Gear or Verlet loop over a FlatMotion, with or without positions.
 template <bool kCorrect, bool kPredict>
@@ -222,62 +223,40 @@ template <bool kKick, bool kDrift>
   }
 }
 
-/// Runs `kBody` compiled for the baseline or, with `inAvx2`, for AVX2 (the body is inlined into
-/// each, so the whole loop is built for that target).
-template <auto kBody, class... Args>
-auto inBaseline(Args&&... args) {
-  return kBody(std::forward<Args>(args)...);
-}
-#if defined(__x86_64__)
-template <auto kBody, class... Args>
-[[gnu::target("avx2")]] auto inAvx2(Args&&... args) {
-  return kBody(std::forward<Args>(args)...);
-}
-#endif
-
-/// The build forceKernelBuild() selects.
-template <auto kBody, class... Args>
-auto dispatch(Args&&... args) {
-#if defined(__x86_64__)
-  if (forceKernelBuild() == ForceKernelBuild::Avx2) return inAvx2<kBody>(args...);
-#endif
-  return inBaseline<kBody>(args...);
-}
-
 }  // namespace
 
 int gearPredictRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return dispatch<gearBody<false, true>>(m, nullptr, dt, b, e);
+  return simdDispatch<gearBody<false, true>>(m, nullptr, dt, b, e);
 }
 
 int gearCorrectRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                      std::size_t e) {
-  return dispatch<gearBody<true, false>>(m, accel, dt, b, e);
+  return simdDispatch<gearBody<true, false>>(m, accel, dt, b, e);
 }
 
 int verletDriftRange(const FlatMotion& m, double dt, std::size_t b, std::size_t e) {
-  return dispatch<verletBody<false, true>>(m, nullptr, dt, b, e);
+  return simdDispatch<verletBody<false, true>>(m, nullptr, dt, b, e);
 }
 
 int verletKickRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                     std::size_t e) {
-  return dispatch<verletBody<true, false>>(m, accel, dt, b, e);
+  return simdDispatch<verletBody<true, false>>(m, accel, dt, b, e);
 }
 
 int gearCorrectPredictRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                             std::size_t e) {
-  return dispatch<gearBody<true, true>>(m, accel, dt, b, e);
+  return simdDispatch<gearBody<true, true>>(m, accel, dt, b, e);
 }
 
 int verletKickDriftRange(const FlatMotion& m, const double* accel, double dt, std::size_t b,
                          std::size_t e) {
-  return dispatch<verletBody<true, true>>(m, accel, dt, b, e);
+  return simdDispatch<verletBody<true, true>>(m, accel, dt, b, e);
 }
 
 void accelerationsRange(std::vector<Vec3>& force, std::vector<Vec3>* torque, const Particles& p,
                         const Vec3& g, std::size_t b, std::size_t e) {
-  dispatch<accelerationsBody>(flat(force), torque ? flat(*torque) : nullptr, p.mass.data(),
-                              p.radius.data(), g, b, e);
+  simdDispatch<accelerationsBody>(flat(force), torque ? flat(*torque) : nullptr, p.mass.data(),
+                                  p.radius.data(), g, b, e);
 }
 
 void Gear5::predict(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivatives& d, double dt,

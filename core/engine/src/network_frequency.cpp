@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "contact_linearisation.hpp"
 #include "domain_split.hpp"
 #include "force_pass.hpp"
 #include "network_bound.hpp"
@@ -16,24 +17,12 @@
 namespace granular {
 
 ContactStiffness contactStiffness(const Material& material, double reducedRadius, double overlap) {
-  // The terms' own formulas (contact_terms/), as the force pass evaluates them.
-  ContactStiffness k;
-  const double kappa = material.normalCoefficient();
-  const double h = std::max(overlap, 0.0);
-  k.normal = material.normalLaw == NormalLaw::Hooke
-                 ? NormalElastic::stiffness<NormalLaw::Hooke>(kappa, reducedRadius, h)
-                 : NormalElastic::stiffness<NormalLaw::Hertz>(kappa, reducedRadius, h);
-  if (material.hasFriction()) {
-    const double constant =
-        material.tangentialLaw == TangentialLaw::Constant ? material.tangentialStiffness : 0.0;
-    k.tangential =
-        TangentialSpring::stiffness(material.tangentialCoefficient(), constant, reducedRadius, h);
-  }
-  if (RollingResistance::active(material)) {
-    k.rolling =
-        RollingResistance::constants(material).stiffness * k.normal * reducedRadius * reducedRadius;
-  }
-  return k;
+  LinearContact c;
+  c.radius = reducedRadius;
+  c.overlap = std::max(overlap, 0.0);
+  lineariseContact(ContactConstants(material, 0.0), material.hasFriction(), optionalMask(material),
+                   c);
+  return c.stiffness;
 }
 
 double contactGain(const ContactStiffness& k, const ContactBody& body, bool rotations) {
@@ -151,7 +140,8 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   const bool rotations = s.frictional;
   const bool hertz = material.normalLaw == NormalLaw::Hertz;
   const double kappa = material.normalCoefficient();
-  const bool rolling = RollingResistance::active(material);
+  const ContactConstants constants(material, s.config.timeStep);
+  const unsigned optional = optionalMask(material);
   GainMatrix stiffness(p.size()), damping(p.size());
   stiffness.links.reserve(s.neighbours.second.size());
   damping.links.reserve(s.neighbours.second.size());
@@ -169,27 +159,25 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   // A split run counts a contact on the rank that owns its first particle.
   auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
   bool added = false;  // a contact added here
-  // One contact between i and j (j = i: a wall), at overlap h.
+  // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
+  // on its modes (contact_linearisation.hpp).
   auto add = [&](std::size_t i, std::size_t j, double reduced, double mass, double h) {
     const bool wall = j == i;
-    const ContactStiffness k = contactStiffness(material, reduced, h);
-    ContactStiffness c;  // the dashpots' coefficients, as the terms apply them
-    c.normal = material.normalDamping * mass;
-    if (k.tangential > 0.0) c.tangential = material.tangentialDamping * mass;
-    if (rolling) {
-      const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
-      const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-      const double inertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
-      c.rolling = 2.0 * material.rollingDamping * std::sqrt(inertia * k.rolling);
-    }
-    auto ratio = [&](double coefficient, double spring) {
-      return 0.5 * coefficient / std::sqrt(spring * mass);
-    };
-    double smallest = k.normal > 0.0 ? ratio(c.normal, k.normal) : out.smallestDampingRatio;
-    if (k.tangential > 0.0) smallest = std::min(smallest, ratio(c.tangential, k.tangential));
-    if (rolling) smallest = std::min(smallest, material.rollingDamping);
+    LinearContact linear;
+    linear.radius = reduced;
+    linear.mass = mass;
+    linear.overlap = std::max(h, 0.0);
+    const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
+    const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
+    linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
+    lineariseContact(constants, s.frictional, optional, linear);
+    // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
+    // far stands in for it.
+    if (!(linear.stiffness.normal > 0.0)) linear.leastDampingRatio(out.smallestDampingRatio);
+    const double smallest = linear.leastRatio;
     out.smallestDampingRatio = added ? std::min(out.smallestDampingRatio, smallest) : smallest;
     added = true;
+    const ContactModes &k = linear.stiffness, &c = linear.damping;
     if (wall) {
       stiffness.wall(i, contactGain(k, body(i, h), rotations));
       damping.wall(i, contactGain(c, body(i, h), rotations));

@@ -9,6 +9,7 @@
 /// the network rather than from the stiffest binary contact.
 #include <cstddef>
 
+#include "granular/contact_terms/term.hpp"
 #include "granular/material.hpp"
 #include "granular/simulation.hpp"
 
@@ -17,9 +18,7 @@ namespace granular {
 /// The linear stiffnesses of one contact at overlap h [m] between bodies of reduced radius R_ij
 /// [m] (a wall contact: R_i): normal k_n = dF_n^e/dh [N/m]; tangential k_t [N/m] (0 without
 /// friction); rolling k_r [N m/rad] (0 without rolling resistance).
-struct ContactStiffness {
-  double normal = 0, tangential = 0, rolling = 0;
-};
+using ContactStiffness = ContactModes;
 ContactStiffness contactStiffness(const Material& material, double reducedRadius, double overlap);
 
 /// One body of a contact as the linearised network sees it: its mass [kg], moment of inertia

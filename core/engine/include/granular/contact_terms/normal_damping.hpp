@@ -2,7 +2,9 @@
 /// Normal dashpot γn m ḣ (docs/physics.md §1, Eq. (3)), and the clamp that keeps the normal force
 /// from pulling: F_n = max(0, F_e + γn m ḣ).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <tuple>
 
 #include "granular/contact_terms/normal_elastic.hpp"
@@ -36,22 +38,41 @@ struct NormalDamping {
   static constexpr std::string_view stableStep =
       "must leave the stiffest contact under-damped; its duration then sets the step";
 
-  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
-  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+  struct Constants {
+    double damping;  ///< γn [1/s]
+    double floor;    ///< 0 (no pull: F_n = max(0, ·)) or −∞ (a pull allowed) [N]
+  };
+  static Constants constants(const Parameters& p) {
+    return {p.normalDamping, p.noPull ? 0.0 : -std::numeric_limits<double>::infinity()};
+  }
+
+  template <NormalLaw kLaw, bool kAdvance, class ModelConstants, class Chunk>
+  [[gnu::always_inline]] static void first(const ModelConstants& k, Chunk& c, std::size_t e,
                                            ContactLane& lane) {
+    const Constants& own = k.template of<NormalDamping>();
     const double rate = c.vx[e] * lane.nx + c.vy[e] * lane.ny + c.vz[e] * lane.nz;  // ḣ
     double power;
-    force(k.normalDamping, k.normalForceFloor, lane.mass, lane.elastic, rate, lane.normal, power);
+    force(own.damping, own.floor, lane.mass, lane.elastic, rate, lane.normal, power);
     c.template energy<NormalDamping>(0)[e] = power;
   }
 
-  /// The normal force F_n = max(floor, F_e + γn m ḣ) (floor 0, or −∞ with a pull allowed) and
-  /// the power the dashpot takes, (F_n − F_e) ḣ.
+  /// The normal force so far (the elastic force F_e) with the dashpot, floored:
+  /// F_n = max(floor, F_e + γn m ḣ) (floor 0, or −∞ with a pull allowed), and the power the
+  /// dashpot takes, (F_n − F_e) ḣ. Terms that may pull (mayPull) act after the floor.
   [[gnu::always_inline]] static void force(double damping, double floor, double mass,
                                            double elastic, double rate, double& normal,
                                            double& power) {
-    normal = std::max(floor, elastic + damping * mass * rate);
+    normal = std::max(floor, normal + damping * mass * rate);
     power = (normal - elastic) * rate;
+  }
+
+  /// Its dashpot in the network's linearisation, and the damping ratio of the normal mode.
+  template <class ModelConstants>
+  static void linearise(const ModelConstants& k, LinearContact& c) {
+    c.damping.normal += k.template of<NormalDamping>().damping * c.mass;
+    if (c.stiffness.normal > 0.0) {
+      c.leastDampingRatio(0.5 * c.damping.normal / std::sqrt(c.stiffness.normal * c.mass));
+    }
   }
 };
 

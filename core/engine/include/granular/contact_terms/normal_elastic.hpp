@@ -48,12 +48,30 @@ struct NormalElastic {
       "the contact's duration: the step is at most 1/50 (gear5) or 1/10 (verlet) of the stiffest "
       "contact's";
 
-  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
-  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+  struct Constants {
+    double coefficient;  ///< (2/3) E/(1-ν²) [Pa]
+    NormalLaw law;
+  };
+  static Constants constants(const Parameters& p) { return {p.normalCoefficient(), p.normalLaw}; }
+
+  /// The elastic force, added to the normal force, and the energy it stores.
+  template <NormalLaw kLaw, bool kAdvance, class ModelConstants, class Chunk>
+  [[gnu::always_inline]] static void first(const ModelConstants& k, Chunk& c, std::size_t e,
                                            ContactLane& lane) {
     double stored;
-    force<kLaw>(k.normalCoefficient, lane.radius, lane.h, lane.elastic, stored);
+    force<kLaw>(k.template of<NormalElastic>().coefficient, lane.radius, lane.h, lane.elastic,
+                stored);
+    lane.normal += lane.elastic;
     c.template energy<NormalElastic>(0)[e] = stored;
+  }
+
+  /// Its spring in the network's linearisation: k_n = dF/dh.
+  template <class ModelConstants>
+  static void linearise(const ModelConstants& k, LinearContact& c) {
+    const Constants& own = k.template of<NormalElastic>();
+    c.stiffness.normal += own.law == NormalLaw::Hooke
+                              ? stiffness<NormalLaw::Hooke>(own.coefficient, c.radius, c.overlap)
+                              : stiffness<NormalLaw::Hertz>(own.coefficient, c.radius, c.overlap);
   }
 
   /// dF/dh of the elastic force: k R (Hooke), (3/2) k √(R h) (Hertz) [N/m].

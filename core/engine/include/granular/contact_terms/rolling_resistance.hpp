@@ -90,6 +90,8 @@ struct RollingResistance {
   static constexpr bool needsFriction = true;
   /// The torque is a pure couple: +q on i, −q on the other body (the force pass adds it).
   static constexpr bool pureTorque = true;
+  /// It reads the bodies' own spins, radii and masses (the relative spin, I_r).
+  static constexpr bool readsBodies = true;
   static constexpr std::string_view stableStep =
       "the half-period π √(I_r/k_r) joins the durations the step must resolve (shorter than the "
       "normal contact's where β_r μ_r² is above about 1.6); its dashpot's rate on a sphere's own "
@@ -117,9 +119,10 @@ struct RollingResistance {
     const double wx = c.wix[e] - c.wjx[e], wy = c.wiy[e] - c.wjy[e], wz = c.wiz[e] - c.wjz[e];
     const double wn = wx * nx + wy * ny + wz * nz;
     const double ux = wx - wn * nx, uy = wy - wn * ny, uz = wz - wn * nz;  // ω_r
-    const double kr = r.stiffness *
-                      NormalElastic::stiffness<kLaw>(k.normalCoefficient, radius, lane.h) * radius *
-                      radius;
+    const double kr =
+        r.stiffness *
+        NormalElastic::stiffness<kLaw>(k.template of<NormalElastic>().coefficient, radius, lane.h) *
+        radius * radius;
     const double inertiaI = 1.4 * c.mi[e] * c.ri[e] * c.ri[e];  // I + m R² = (7/5) m R²
     const double inertiaJ = 1.4 * c.mj[e] * c.rj[e] * c.rj[e];  // a wall's: infinite
     const double inertia = 1.0 / (1.0 / inertiaI + 1.0 / inertiaJ);
@@ -138,9 +141,9 @@ struct RollingResistance {
     const bool rolling = TangentialSpring::cap(limit, kr, sx, sy, sz, tx, ty, tz);
     const double dashpot = rolling ? 0.0 : damping;
     const double qx = sx - dashpot * ux, qy = sy - dashpot * uy, qz = sz - dashpot * uz;
-    c.qx[e] = qx;
-    c.qy[e] = qy;
-    c.qz[e] = qz;
+    lane.qx += qx;
+    lane.qy += qy;
+    lane.qz += qz;
     c.template energy<RollingResistance>(0)[e] = 0.5 * kr * (tx * tx + ty * ty + tz * tz);
     c.template energy<RollingResistance>(1)[e] = dashpot * (ux * ux + uy * uy + uz * uz);
     c.template energy<RollingResistance>(4)[e] = qx * wx + qy * wy + qz * wz;
@@ -150,6 +153,17 @@ struct RollingResistance {
       tzs[e] = tz;
       krs[e] = kr;
     }
+  }
+
+  /// Its spring and dashpot in the network's linearisation (k_r = β_r μ_r² k_n R², C_r), and
+  /// the damping ratio of the rolling mode, η_r.
+  template <class ModelConstants>
+  static void linearise(const ModelConstants& k, LinearContact& c) {
+    const Constants& own = k.template of<RollingResistance>();
+    const double kr = own.stiffness * c.stiffness.normal * c.radius * c.radius;
+    c.stiffness.rolling += kr;
+    c.damping.rolling += own.damping * std::sqrt(c.rollingInertia * kr);
+    c.leastDampingRatio(0.5 * own.damping);
   }
 
   /// Why a stored history is not a state this term can have come to (nullptr: it can).

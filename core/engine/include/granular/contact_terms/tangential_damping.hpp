@@ -1,6 +1,7 @@
 #pragma once
 /// Tangential dashpot γt m v_t (docs/physics.md §1, Eq. (4)): part of the trial tangential force
 /// before the Coulomb cap, so it acts while the contact sticks.
+#include <cmath>
 #include <cstddef>
 #include <tuple>
 
@@ -29,11 +30,17 @@ struct TangentialDamping {
       "γt <= z/(21 Δt): a sticking contact's dashpot acts at 3.5 γt, up to 6 at once, and the "
       "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 1 verlet)";
 
-  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
-  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+  struct Constants {
+    double damping;  ///< γt [1/s]
+  };
+  static Constants constants(const Parameters& p) { return {p.tangentialDamping}; }
+
+  template <NormalLaw kLaw, bool kAdvance, class ModelConstants, class Chunk>
+  [[gnu::always_inline]] static void first(const ModelConstants& k, Chunk& c, std::size_t e,
                                            ContactLane& lane) {
-    c.template energy<TangentialDamping>(0)[e] = addForce(
-        k.tangentialDamping, lane.mass, lane.vtx, lane.vty, lane.vtz, lane.tx, lane.ty, lane.tz);
+    c.template energy<TangentialDamping>(0)[e] =
+        addForce(k.template of<TangentialDamping>().damping, lane.mass, lane.vtx, lane.vty,
+                 lane.vtz, lane.tx, lane.ty, lane.tz);
   }
   /// A sliding contact's dashpot is part of the capped force: its power is in the slip.
   template <bool kAdvance, class Constants, class Chunk>
@@ -42,6 +49,15 @@ struct TangentialDamping {
     double* power = c.template energy<TangentialDamping>(0);
     const double sticking = power[e];
     power[e] = lane.sliding ? 0.0 : sticking;
+  }
+
+  /// Its dashpot in the network's linearisation (where the spring acts), and the damping ratio
+  /// of the tangential mode.
+  template <class ModelConstants>
+  static void linearise(const ModelConstants& k, LinearContact& c) {
+    if (!(c.stiffness.tangential > 0.0)) return;
+    c.damping.tangential += k.template of<TangentialDamping>().damping * c.mass;
+    c.leastDampingRatio(0.5 * c.damping.tangential / std::sqrt(c.stiffness.tangential * c.mass));
   }
 
   /// Adds the dashpot −γt m v_t to the trial force t; returns the power it takes, γt m |v_t|².

@@ -90,11 +90,26 @@ struct TangentialSpring {
       "mindlin: k_t <= k_n, covered by the normal law's duration; constant: the half-period "
       "π √(m_ij/(3.5 k_t)) of a sticking contact joins the durations the step must resolve";
 
+  struct Constants {
+    double coefficient;  ///< (8/3) G/(2−ν) of Mindlin's k_t [Pa]
+    double stiffness;    ///< k_t of the constant law; 0: Mindlin's [N/m]
+    double friction;     ///< μ [-]
+  };
+  template <class Material>
+  static Constants constants(const Material& m) {
+    return {m.tangentialCoefficient(),
+            m.tangentialLaw == TangentialLaw::Constant ? m.tangentialStiffness : 0.0, m.friction};
+  }
+  /// Per contact between the law's loops: k_t [N/m] and the Coulomb limit μ|F_n| [N].
+  static constexpr std::string_view kBetweenLoops[] = {"stiffness", "limit"};
+  static constexpr std::span<const std::string_view> betweenLoops{kBetweenLoops};
+
   /// First loop: the contact points' tangential velocity, the stored stretch turned (and with
   /// kAdvance advanced), k_t, the stiffness work, and the trial force −k_t ξ.
-  template <NormalLaw kLaw, bool kAdvance, class Constants, class Chunk>
-  [[gnu::always_inline]] static void first(const Constants& k, Chunk& c, std::size_t e,
+  template <NormalLaw kLaw, bool kAdvance, class ModelConstants, class Chunk>
+  [[gnu::always_inline]] static void first(const ModelConstants& k, Chunk& c, std::size_t e,
                                            ContactLane& lane) {
+    const Constants& own = k.template of<TangentialSpring>();
     const double nx = lane.nx, ny = lane.ny, nz = lane.nz;
     const double cn = c.cx[e] * nx + c.cy[e] * ny + c.cz[e] * nz;
     const double vtx = c.cx[e] - cn * nx, vty = c.cy[e] - cn * ny, vtz = c.cz[e] - cn * nz;
@@ -104,23 +119,20 @@ struct TangentialSpring {
     double* const kts = c.template history<TangentialSpring>(3);
     double sx = sxs[e], sy = sys[e], sz = szs[e];
     const double length2 = turnAndAdvance<kAdvance>(nx, ny, nz, vtx, vty, vtz, k.dt, sx, sy, sz);
-    const double kt =
-        stiffness(k.tangentialCoefficient, k.tangentialStiffness, lane.radius, lane.h);
+    const double kt = stiffness(own.coefficient, own.stiffness, lane.radius, lane.h);
     c.template energy<TangentialSpring>(2)[e] = kAdvance ? 0.5 * (kt - kts[e]) * length2 : 0.0;
-    lane.tx = -kt * sx;
-    lane.ty = -kt * sy;
-    lane.tz = -kt * sz;
+    lane.tx += -kt * sx;
+    lane.ty += -kt * sy;
+    lane.tz += -kt * sz;
     lane.vtx = vtx;
     lane.vty = vty;
     lane.vtz = vtz;
     sxs[e] = sx;
     sys[e] = sy;
     szs[e] = sz;
-    c.vtx[e] = vtx;
-    c.vty[e] = vty;
-    c.vtz[e] = vtz;
-    c.kt[e] = kt;
-    c.limit[e] = k.friction * std::abs(lane.normal);  // μ |F_n|: F_n < 0 only with a pull
+    c.template between<TangentialSpring>(0)[e] = kt;
+    // μ |F_n|: F_n < 0 only with a pull.
+    c.template between<TangentialSpring>(1)[e] = own.friction * std::abs(lane.normal);
   }
 
   /// Second loop: the Coulomb cap on the trial force (spring and dashpot), the spring reset
@@ -132,10 +144,11 @@ struct TangentialSpring {
     double* const sys = c.template history<TangentialSpring>(1);
     double* const szs = c.template history<TangentialSpring>(2);
     double sx = sxs[e], sy = sys[e], sz = szs[e];
-    const double kt = c.kt[e];
-    lane.sliding = cap(c.limit[e], kt, lane.tx, lane.ty, lane.tz, sx, sy, sz);
+    const double kt = c.template between<TangentialSpring>(0)[e];
+    const double limit = c.template between<TangentialSpring>(1)[e];
+    lane.sliding = cap(limit, kt, lane.tx, lane.ty, lane.tz, sx, sy, sz);
     c.template energy<TangentialSpring>(3)[e] =
-        lane.tx * c.vtx[e] + lane.ty * c.vty[e] + lane.tz * c.vtz[e];
+        lane.tx * lane.vtx + lane.ty * lane.vty + lane.tz * lane.vtz;
     c.template energy<TangentialSpring>(0)[e] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
     if constexpr (kAdvance) {
       sxs[e] = sx;
@@ -143,6 +156,13 @@ struct TangentialSpring {
       szs[e] = sz;
       c.template history<TangentialSpring>(3)[e] = kt;
     }
+  }
+
+  /// Its spring in the network's linearisation: k_t at the contact points.
+  template <class ModelConstants>
+  static void linearise(const ModelConstants& k, LinearContact& c) {
+    const Constants& own = k.template of<TangentialSpring>();
+    c.stiffness.tangential += stiffness(own.coefficient, own.stiffness, c.radius, c.overlap);
   }
 
   /// Why a stored history is not a state this term can have come to (nullptr: it can).

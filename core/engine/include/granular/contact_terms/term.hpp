@@ -1,6 +1,7 @@
 #pragma once
 /// What a term of the contact model declares about itself (docs/architecture.md, "The contact
-/// model"). A term is a struct with
+/// model"): everything the engine needs of it, so that a new term is one file and a line in
+/// the model's list (granular/contact_model.hpp). A term is a struct with
 ///   - `Parameters`: its material parameters with their defaults (Material derives from every
 ///     term's Parameters, so `material.friction` is the tangential spring's);
 ///   - `parameters`: a tuple of NumberParameter / ChoiceParameter / FlagParameter, one per
@@ -11,21 +12,33 @@
 ///   - `energy`: its energy accounts (EnergyTerm; the ledger's columns), and `needsFriction`:
 ///     whether it acts only where friction is on (its accounts and history are then left out
 ///     of a frictionless scene's pass);
-///   - `stableStep`: how it limits the time step, in words (the check lives with the engine);
+///   - `stableStep`: how it limits the time step, in words, for the docs; the limit itself is
+///     its `linearise` (below);
 ///   - optionally `rule`: a rule between its parameters that no single range states, returning
 ///     a RuleProblem (validateMaterial and the scene loader apply it);
 ///   - optionally `idle`: which of its parameters the others leave without effect (the
 ///     constant law's k_t under Mindlin's), as IdleParameters; a scene that sets one is refused;
-///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them);
+///   - optionally `Constants` with `constants(material)`: its constants, computed once a pass
+///     (the kernel reads them as `k.template of<Term>()`);
+///   - optionally `betweenLoops`: names of per-contact values it keeps from the law's first loop
+///     to its second (`c.template between<Term>(slot)`);
+///   - its kernel, inline functions on one contact of a chunk (contact_law.hpp composes them):
+///     `first` and, for a term that needs every force of the first loop, `second`. Forces and
+///     couples ACCUMULATE in the lane: a term adds to `normal`, to the tangential force and to
+///     the couple `q` (+q on i, −q on the other body), never overwrites another's part;
+///   - optionally `linearise(constants, LinearContact&)`: its springs and dashpots in the
+///     contact network's linearisation, added to the contact's modes (the step bound,
+///     network_frequency.hpp, adds nothing by name);
 ///   - optionally `active(const Parameters&)`: the term is optional and acts only where this
-///     says (the law is built with and without it; a scene without it pays nothing), `Constants`
-///     with `constants(const Parameters&)` (its own constants, once a pass; the kernel reads them
-///     as `k.template of<Term>()`), and `pureTorque` (the kernel writes a couple into the chunk's
-///     q rows: +q on i, −q on the other body).
+///     says (the law is built with and without it; a scene without it pays nothing);
+///   - optionally `pureTorque`: it adds a couple (the build then carries the q rows), and
+///     `readsBodies`: it reads the bodies' own radii, masses and spins (the chunk's raw rows;
+///     a wall is a body of infinite radius and mass without spin);
+///   - optionally `mayPull`: its normal force may be attractive. It is listed after the normal
+///     dashpot, whose no-pull floor holds for the contact's own repulsion only.
 /// Everything that lists material parameters (the scene loader, the one validation, the state
 /// checks, the checkpoint, the scene fingerprint, the GUI, the docs test) reads these
-/// declarations through granular/contact_model.hpp, so a new term is one file and a line in the
-/// model's list.
+/// declarations through granular/contact_model.hpp.
 #include <span>
 #include <string_view>
 
@@ -39,14 +52,44 @@ namespace granular {
 /// friction, `second` (the second loop: the caps, which need every force of the first); both
 /// are static inline templates on the chunk of contacts, which gives them their arrays
 /// (`c.template energy<Term>(slot)`, `c.template history<Term>(slot)`, the velocities).
+///
+/// The sums start at −0, the identity of IEEE addition (−0 + x is x for every x, ±0 included):
+/// the first term's part is then the sum itself, bit for bit.
 struct ContactLane {
-  double h, nx, ny, nz;  ///< overlap [m], unit normal from i to the other body
+  double h, nx, ny, nz;  ///< overlap [m] (negative: a gap), unit normal from i to the other body
   double radius, mass;   ///< R_ij [m], m_ij [kg]
   double elastic = 0;    ///< the normal elastic force F_e [N]
-  double normal = 0;     ///< the normal force F_n [N] (the force on i is −F_n n + F_t)
-  double vtx = 0, vty = 0, vtz = 0;  ///< tangential velocity of the contact points [m/s]
-  double tx = 0, ty = 0, tz = 0;     ///< tangential force: trial (first), capped (second) [N]
-  bool sliding = false;              ///< the Coulomb cap holds (second loop)
+  double normal = -0.0;  ///< the normal force F_n, summed [N] (the force on i: −F_n n + F_t)
+  double vtx = 0, vty = 0, vtz = 0;        ///< tangential velocity of the contact points [m/s]
+  double tx = -0.0, ty = -0.0, tz = -0.0;  ///< tangential force, summed: trial (first),
+                                           ///< capped (second) [N]
+  double qx = -0.0, qy = -0.0, qz = -0.0;  ///< the couple on i, summed [N m]
+  bool sliding = false;                    ///< the Coulomb cap holds (second loop)
+};
+
+/// One contact's modes of relative motion: normal, tangential at the contact points, rolling.
+struct ContactModes {
+  double normal = 0, tangential = 0, rolling = 0;
+};
+
+/// One contact linearised about its state, as the contact network's step bound sees it
+/// (network_frequency.hpp): the engine gives the contact; each term adds its springs
+/// (N/m; rolling N m/rad) and dashpots (N s/m; rolling N m s/rad) to the modes, and the damping
+/// ratio of each mode it damps.
+struct LinearContact {
+  double radius = 0;          ///< R_ij [m]
+  double mass = 0;            ///< m_ij [kg]
+  double overlap = 0;         ///< h ≥ 0 [m]
+  double rollingInertia = 0;  ///< the relative rotation's inertia about the contact [kg m²]
+  ContactModes stiffness, damping;
+  double leastRatio = 0;  ///< the least damping ratio of the modes (valid when `damped`)
+  bool damped = false;
+
+  /// A mode's damping ratio [-]: the least is kept.
+  void leastDampingRatio(double ratio) {
+    leastRatio = damped ? (ratio < leastRatio ? ratio : leastRatio) : ratio;
+    damped = true;
+  }
 };
 
 /// How a parameter is written in a scene file: a number, one of a list of names, true/false.
