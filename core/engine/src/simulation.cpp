@@ -118,8 +118,8 @@ struct Step {
     turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
   }
   /// Folds the largest move of the particles [b, e) since the neighbour list's build into
-  /// the calling thread's (a maximum: the same in any split into ranges), so that the
-  /// staleness test needs no pass of its own.
+  /// the calling thread's (a maximum: the same however the particles are cut into ranges), so that
+  /// the staleness test needs no pass of its own.
   void measureMoves(std::size_t b, std::size_t e) const {
     double& largest = s.rangeMove2[static_cast<std::size_t>(omp_get_thread_num())];
     largest = std::max(largest, s.partition->largestMoveInRange(s, b, e));
