@@ -1,6 +1,6 @@
 /// The setters that re-shape a running simulation: its skin, walls, step, step control,
-/// contact law and integrator. Each refuses a change the step could not take (ConfigError,
-/// TimeStepError) and leaves the state as it was then.
+/// contact law and integrator. A change they refuse (ConfigError, TimeStepError) leaves the
+/// state as it was.
 #include <algorithm>
 #include <cmath>
 

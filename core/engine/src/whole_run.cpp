@@ -1,5 +1,5 @@
-/// The run in one process (run_partition.hpp): the hooks do nothing, or give what the state
-/// holds.
+/// A run whose process holds every particle (run_partition.hpp), alone or sharing only its
+/// sums (Simulation::setOwnership): the hooks do nothing, or give what the state holds.
 #include <memory>
 
 #include "run_partition.hpp"
