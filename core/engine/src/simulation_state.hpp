@@ -15,6 +15,7 @@
 #include "granular/domain_map.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
+#include "run_partition.hpp"
 #include "thread_governor.hpp"
 
 namespace granular {
@@ -287,6 +288,9 @@ struct SimulationState {
   std::vector<std::uint8_t> owned;
   std::shared_ptr<const Communicator> ranks;
   DomainSplit split;
+  /// The step's hooks for how the run is shared among processes (run_partition.hpp): the
+  /// whole run's, or the split's once splitAmong has split it.
+  const RunPartition* partition = &wholeRun();
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
   StepCounters counters;

@@ -1,0 +1,161 @@
+/// The step against the contact network (StepControl, docs/physics.md §2.16): a fixed step
+/// refused or watched, an automatic one chosen; and the clock it runs.
+#include "step_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "config_validation.hpp"
+#include "granular/error.hpp"
+#include "network_bound.hpp"
+
+namespace granular {
+namespace {
+
+/// The fewest steps between two checks of the step that a rebuild starts.
+/// An automatic step follows the contacts closely; a fixed one is only watched, at less cost
+/// (every impact of a Gear5 step at t_c/50 spans two such checks).
+constexpr std::uint64_t kStepsBetweenChecks = 10, kStepsBetweenFixedChecks = 25;
+
+/// The accuracy floor t_c / N of the stiffest contact at the approach speed `approach` [m/s]:
+/// a Hertz contact is shorter at a higher speed, so the floor follows the run's fastest
+/// approach wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend
+/// on it. Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long,
+/// but contacts that open and close inside a step kick its higher derivatives, and beds gain
+/// energy above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
+double accuracyFloor(const SimulationState& s, Integrator integrator, double approach) {
+  const bool faster =
+      s.config.material.normalLaw == NormalLaw::Hertz && approach > s.config.impactSpeed;
+  const ContactScale scale =
+      faster ? stiffestContact(s.config.material, s.contactScale.radius, approach) : s.contactScale;
+  double floor = scale.duration / s.config.step.contactResolution;
+  if (integrator == Integrator::Gear5) floor = std::min(floor, maxStableStep(scale, integrator));
+  return floor;
+}
+
+/// The network's stable step for `integrator` now, counting the contacts that may form within
+/// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor.
+StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
+  const StepControl& control = s.config.step;
+  // Contacts that form within two check intervals count; an automatic step may grow to its
+  // floor at the expected speed before the next check, so the interval is measured in that.
+  const double longest = control.automatic ? std::max(dt, accuracyFloor(s, integrator, 0.0)) : dt;
+  const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * longest;
+  StepCheck c;
+  // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
+  // fixed step, or the accuracy floor an automatic step cannot exceed anyway. An automatic step
+  // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
+  // fixed one 32 before it is judged above the network's.
+  const NetworkFrequency f = networkFrequencyBound(
+      s, control.automatic ? 8 : 32, lookahead, [&](const NetworkFrequency& g) {
+        const double needed = control.automatic
+                                  ? accuracyFloor(s, integrator, g.fastestApproach) / control.safety
+                                  : dt;
+        return needed <= networkStepOf(integrator, g);
+      });
+  c.approachSpeed = f.fastestApproach;
+  c.accuracyStep = accuracyFloor(s, integrator, f.fastestApproach);
+  c.time = clockNow(s);
+  c.omegaMax = f.omegaMax;
+  c.dampingRatio = f.dampingRatio;
+  c.particle = f.particle;
+  c.contacts = f.contacts + f.approaching;
+  c.networkStep = networkStepOf(integrator, f);
+  c.chosenStep = control.automatic ? std::min(control.safety * c.networkStep, c.accuracyStep) : dt;
+  return c;
+}
+
+/// Why `dt` is above the network's step `c` (a fixed step's refusal or stop).
+std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrator) {
+  const bool gear = integrator == Integrator::Gear5;
+  std::ostringstream msg;
+  msg.precision(4);
+  msg << "the time step " << dt << " s is above the step the contact network allows, "
+      << c.networkStep << " s (" << dt / c.networkStep
+      << " × it): " << (gear ? "gear5" : "velocity Verlet")
+      << " is stable for ω Δt <= " << c.networkStep * c.omegaMax
+      << " at the network's damping ratio " << c.dampingRatio
+      << " (physics.md §2.15), and the network's highest frequency is at most " << c.omegaMax
+      << " rad/s (bounded from " << c.contacts << " contacts; particle " << c.particle
+      << "'s row sets it)";
+  return msg.str();
+}
+
+}  // namespace
+
+double targetStep(const SimulationState& s) {
+  return s.targetStep > 0.0 ? s.targetStep : s.config.timeStep;
+}
+
+void changeStep(SimulationState& s, double dt) {
+  if (dt == s.config.timeStep) return;
+  s.timeOrigin += static_cast<double>(s.stepsSinceOrigin) * s.config.timeStep;
+  s.stepsSinceOrigin = 0;
+  s.config.timeStep = dt;
+}
+
+double clockNow(const SimulationState& s) {
+  return s.timeOrigin + static_cast<double>(s.stepsSinceOrigin) * s.config.timeStep;
+}
+
+StepCheck requireAllowedStep(const SimulationState& s, double dt, Integrator integrator) {
+  const StepCheck c = measureStep(s, integrator, dt);
+  if (c.contacts == 0 || integrator == Integrator::Gear5) {
+    // Nothing to bound yet: the stiffest binary contact's fraction, set from the worst bed
+    // measured (bench/RESULTS.md, "Gear in a bed"), stands in until contacts form.
+    requireStableStep(dt, s.contactScale, integrator);
+    requireStableTangentialDamping(s.config.material, dt, integrator);
+    if (c.contacts == 0) return c;
+  }
+  if (!(dt <= c.networkStep)) {
+    throw TimeStepError(aboveNetworkStep(dt, c, integrator) + "; use at most " +
+                        shortNumber(c.networkStep) + " s, or time_step = \"auto\"");
+  }
+  return c;
+}
+
+void checkStep(SimulationState& s) {
+  s.stepsSinceCheck = 0;
+  ++s.counters.stepChecks;
+  const double target = targetStep(s);
+  StepCheck c = measureStep(s, s.config.integrator, target);
+  s.stepCheck = c;
+  s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
+
+  if (s.config.step.automatic) {
+    if (!(c.chosenStep > 0.0) || !std::isfinite(c.chosenStep)) {
+      std::ostringstream msg;
+      msg << "step " << s.steps << " (t = " << c.time << " s): the contact network allows no "
+          << "step (its bound: " << c.omegaMax << " rad/s at damping ratio " << c.dampingRatio
+          << ", particle " << c.particle << "); the run stops";
+      throw NumericalError(msg.str());
+    }
+    s.targetStep = c.chosenStep;
+    changeStep(s, c.chosenStep);
+    return;
+  }
+  if (s.stepLimitDisabled || c.contacts == 0 || target <= c.networkStep) return;
+  if (s.config.step.onUnstable == OnUnstable::Warn) {
+    ++s.counters.unstableChecks;
+    s.counters.worstStepRatio = std::max(s.counters.worstStepRatio, target / c.networkStep);
+    return;
+  }
+  std::ostringstream msg;
+  msg.precision(9);
+  msg << "step " << s.steps << " (t = " << c.time
+      << " s): " << aboveNetworkStep(target, c, s.config.integrator)
+      << "; the run stops before it gains energy (on_unstable = \"stop\"): use a smaller "
+         "time_step, time_step = \"auto\", or on_unstable = \"warn\"";
+  throw NumericalError(msg.str());
+}
+
+bool stepCheckDue(const SimulationState& s, bool rebuilt) {
+  const std::uint64_t since = s.stepsSinceCheck + 1;
+  const std::uint64_t gap =
+      s.config.step.automatic ? kStepsBetweenChecks : kStepsBetweenFixedChecks;
+  return (s.config.step.automatic || !s.stepLimitDisabled) &&
+         ((rebuilt && since >= gap) || since >= s.config.step.recheckSteps);
+}
+
+}  // namespace granular

@@ -1,0 +1,27 @@
+#pragma once
+/// The step against the contact network (StepControl, docs/physics.md §2.16): a fixed step
+/// refused or watched, an automatic one chosen; and the clock it runs.
+#include "simulation_state.hpp"
+
+namespace granular {
+
+/// The time now: timeOrigin + stepsSinceOrigin·Δt [s].
+double clockNow(const SimulationState& s);
+/// The step asked for or chosen (StepControl), which a landing step may shorten [s].
+double targetStep(const SimulationState& s);
+/// The next step's Δt; the clock, timeOrigin + stepsSinceOrigin·Δt, is folded into its origin
+/// first so that it runs on unbroken.
+void changeStep(SimulationState& s, double dt);
+/// A fixed step at the start, or after a change of step, integrator or material: refused
+/// (ConfigError) above the network's step; with no contact yet, above the binary fallback,
+/// which Gear5 keeps throughout. Returns the measurement it judged by.
+StepCheck requireAllowedStep(const SimulationState& s, double dt, Integrator integrator);
+/// The check of the step against the network: with step.automatic the step is chosen, else a
+/// fixed step above the network's stops the run (NumericalError) or is counted.
+void checkStep(SimulationState& s);
+/// Whether the step that is running checks the step once corrected: after a rebuild, at most
+/// every 10 steps (a fixed step every 25: a settling bed rebuilds every few steps, and a check
+/// costs about one step), and at least every recheckSteps steps.
+bool stepCheckDue(const SimulationState& s, bool rebuilt);
+
+}  // namespace granular
