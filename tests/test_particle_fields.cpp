@@ -61,9 +61,9 @@ void forEachFieldOfBoth(const SimulationState& a, const SimulationState& b, Visi
         },
         list);
   };
-  each(particleFieldList());
-  each(motionFieldList());
-  each(splitFieldList());
+  each(kParticleFields);
+  each(kMotionFields);
+  each(kSplitFields);
 }
 
 /// A value told apart by field and particle: field f, particle i.
@@ -224,7 +224,7 @@ TEST(ParticleFields, ANonFiniteValueInAnyFieldIsFoundByName) {
       EXPECT_NE(std::string(e.what()).find("particle 2: " + name + " "), std::string::npos)
           << e.what();
     }
-    if (target < std::tuple_size_v<decltype(particleFieldList())>) {
+    if (target < std::tuple_size_v<decltype(kParticleFields)>) {
       // A field of Particles: the step's own scan finds it too.
       const std::optional<std::string> found = firstNonFiniteParticle(broken.particles);
       ASSERT_TRUE(found.has_value()) << name;

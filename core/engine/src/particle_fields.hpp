@@ -5,15 +5,14 @@
 /// is one line here and every one of them carries it.
 ///
 /// A field's line gives its name as messages print it, its unit, when the state holds it
-/// (FieldNeeds), the checkpoint version that first holds it, and the array (a getter on the
-/// Particles or on the SimulationState). Its type, Vec3 or double (or, for a split run's
-/// bookkeeping, an integer), is the array's.
+/// (FieldNeeds), its array (a member of Particles or of SimulationState, or of one of their
+/// members) and the checkpoint version that first holds it. Its type, Vec3 or double (or, for a
+/// split run's bookkeeping, an integer), is the array's.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <tuple>
 #include <type_traits>
-#include <utility>
 #include <vector>
 
 #include "granular/particles.hpp"
@@ -43,6 +42,25 @@ struct FieldSpec {
   std::uint32_t since;    ///< the first checkpoint version that holds it
 };
 
+/// A field's array in its owner: owner.*array, or (owner.*part).*array for one a member holds.
+template <class Owner, class Array>
+struct Member {
+  Array Owner::*array;
+  template <class O>
+  constexpr auto& operator()(O& owner) const {
+    return owner.*array;
+  }
+};
+template <class Owner, class Part, class Array>
+struct NestedMember {
+  Part Owner::*part;
+  Array Part::*array;
+  template <class O>
+  constexpr auto& operator()(O& owner) const {
+    return (owner.*part).*array;
+  }
+};
+
 /// One line of a list: the field's spec and its array in an Owner (Particles or
 /// SimulationState), const or not.
 template <class Owner, unsigned Needs, class Get>
@@ -59,79 +77,68 @@ struct FieldEntry {
   Get get;
 };
 
-template <class Owner, unsigned Needs, class Get>
-constexpr FieldEntry<Owner, Needs, Get> field(std::string_view name, std::string_view unit, Get get,
-                                              std::uint32_t since = kFieldsSinceFirstVersion) {
-  return {{name, unit, Needs, since}, get};
+/// A field that is a member array of its owner: field<kAlways>("mass", "kg", &Particles::mass).
+template <unsigned Needs, class Owner, class Array>
+constexpr auto field(std::string_view name, std::string_view unit, Array Owner::*array,
+                     std::uint32_t since = kFieldsSinceFirstVersion) {
+  return FieldEntry<Owner, Needs, Member<Owner, Array>>{{name, unit, Needs, since}, {array}};
+}
+/// A field that is an array of a member of its owner:
+/// field<kGear5>("jerk", "m/s^3", &SimulationState::translation, &Derivatives::d3).
+template <unsigned Needs, class Owner, class Part, class Array>
+constexpr auto field(std::string_view name, std::string_view unit, Part Owner::*part,
+                     Array Part::*array, std::uint32_t since = kFieldsSinceFirstVersion) {
+  return FieldEntry<Owner, Needs, NestedMember<Owner, Part, Array>>{{name, unit, Needs, since},
+                                                                    {part, array}};
 }
 
 // ---- The lists ----------------------------------------------------------------------------
 
-/// The fields of Particles, in the checkpoint's order.
-constexpr auto particleFieldList() {
-  using P = Particles;
-  return std::tuple{
-      field<P, kGhost>(
-          "position", "m", [](auto& p) -> auto& { return p.position; }),
-      field<P, kGhost>(
-          "velocity", "m/s", [](auto& p) -> auto& { return p.velocity; }),
-      field<P, kGhost>(
-          "angular velocity", "rad/s", [](auto& p) -> auto& { return p.angularVelocity; }),
-      field<P, kAlways>(
-          "radius", "m", [](auto& p) -> auto& { return p.radius; }),
-      field<P, kAlways>(
-          "mass", "kg", [](auto& p) -> auto& { return p.mass; }),
-  };
-}
+// One line a field: its name as messages print it, its unit, when the state holds it, its
+// array, and (after the array) the checkpoint version that first holds it where that is not
+// the first; a new field also raises kCheckpointVersion. The lists are in the checkpoint's
+// order.
+// clang-format off
 
-/// The integrator's fields of a SimulationState (the last forces and the derivatives), in the
-/// checkpoint's order.
-constexpr auto motionFieldList() {
-  using S = SimulationState;
-  constexpr unsigned kSpin = kFriction, kGearSpin = kFriction | kGear5;
-  return std::tuple{
-      field<S, kAlways>(
-          "force", "N", [](auto& s) -> auto& { return s.force; }),
-      field<S, kSpin>(
-          "torque", "N m", [](auto& s) -> auto& { return s.torque; }),
-      field<S, kAlways>(
-          "acceleration", "m/s^2", [](auto& s) -> auto& { return s.translation.d2; }),
-      field<S, kGear5>(
-          "jerk", "m/s^3", [](auto& s) -> auto& { return s.translation.d3; }),
-      field<S, kGear5>(
-          "snap", "m/s^4", [](auto& s) -> auto& { return s.translation.d4; }),
-      field<S, kGear5>(
-          "crackle", "m/s^5", [](auto& s) -> auto& { return s.translation.d5; }),
-      field<S, kSpin>(
-          "angular acceleration", "rad/s^2", [](auto& s) -> auto& { return s.rotation.d2; }),
-      field<S, kGearSpin>(
-          "angular jerk", "rad/s^3", [](auto& s) -> auto& { return s.rotation.d3; }),
-      field<S, kGearSpin>(
-          "angular snap", "rad/s^4", [](auto& s) -> auto& { return s.rotation.d4; }),
-      field<S, kGearSpin>(
-          "angular crackle", "rad/s^5", [](auto& s) -> auto& { return s.rotation.d5; }),
-  };
-}
+/// The fields of Particles.
+inline constexpr auto kParticleFields = std::tuple{
+    field<kGhost>("position", "m", &Particles::position),
+    field<kGhost>("velocity", "m/s", &Particles::velocity),
+    field<kGhost>("angular velocity", "rad/s", &Particles::angularVelocity),
+    field<kAlways>("radius", "m", &Particles::radius),
+    field<kAlways>("mass", "kg", &Particles::mass),
+};
+
+/// The integrator's fields of a SimulationState: the last forces and the derivatives.
+inline constexpr auto kMotionFields = std::tuple{
+    field<kAlways>("force", "N", &SimulationState::force),
+    field<kFriction>("torque", "N m", &SimulationState::torque),
+    field<kAlways>("acceleration", "m/s^2", &SimulationState::translation, &Derivatives::d2),
+    field<kGear5>("jerk", "m/s^3", &SimulationState::translation, &Derivatives::d3),
+    field<kGear5>("snap", "m/s^4", &SimulationState::translation, &Derivatives::d4),
+    field<kGear5>("crackle", "m/s^5", &SimulationState::translation, &Derivatives::d5),
+    field<kFriction>("angular acceleration", "rad/s^2", &SimulationState::rotation, &Derivatives::d2),
+    field<kFriction | kGear5>("angular jerk", "rad/s^3", &SimulationState::rotation, &Derivatives::d3),
+    field<kFriction | kGear5>("angular snap", "rad/s^4", &SimulationState::rotation, &Derivatives::d4),
+    field<kFriction | kGear5>("angular crackle", "rad/s^5", &SimulationState::rotation, &Derivatives::d5),
+};
 
 /// A split run's bookkeeping of a SimulationState: not checkpointed (a checkpoint holds the
 /// whole run), travelling as a record's id or recomputed from the domains.
-constexpr auto splitFieldList() {
-  using S = SimulationState;
-  return std::tuple{
-      field<S, kSplit>(
-          "global id", "", [](auto& s) -> auto& { return s.split.globalId; }),
-      field<S, kSplit>(
-          "ownership", "", [](auto& s) -> auto& { return s.owned; }),
-  };
-}
+inline constexpr auto kSplitFields = std::tuple{
+    field<kSplit>("global id", "", &SimulationState::split, &DomainSplit::globalId),
+    field<kSplit>("ownership", "", &SimulationState::owned),
+};
+
+// clang-format on
 
 // Every array of Particles and of Derivatives is listed: a member added without a line here
 // fails to compile (all vectors have one size whatever they hold).
 static_assert(sizeof(Particles) ==
-                  std::tuple_size_v<decltype(particleFieldList())> * sizeof(std::vector<double>),
-              "a Particles array is missing from particleFieldList()");
+                  std::tuple_size_v<decltype(kParticleFields)> * sizeof(std::vector<double>),
+              "a Particles array is missing from kParticleFields");
 static_assert(sizeof(Derivatives) == 4 * sizeof(std::vector<Vec3>),
-              "a Derivatives array is missing from motionFieldList()");
+              "a Derivatives array is missing from kMotionFields");
 
 // ---- Walking the lists --------------------------------------------------------------------
 
@@ -154,19 +161,19 @@ constexpr void visitOffsets(const List& list, std::size_t& offset, Visit& visit)
 /// Calls visit(spec, array) for each field of `particles` (const or not).
 template <class P, class Visit>
 void forEachParticleField(P& particles, Visit&& visit) {
-  fields_detail::visitAll(particleFieldList(), particles, visit);
+  fields_detail::visitAll(kParticleFields, particles, visit);
 }
 /// Calls visit(spec, from, to) for each field, `from`'s array and `to`'s.
 template <class Visit>
 void forEachParticleFieldPair(const Particles& from, Particles& to, Visit&& visit) {
   std::apply(
       [&](const auto&... entry) { (visit(entry.spec, entry.get(from), entry.get(to)), ...); },
-      particleFieldList());
+      kParticleFields);
 }
 /// Calls visit(spec, array) for each integrator field of `state` (const or not).
 template <class S, class Visit>
 void forEachMotionField(S& state, Visit&& visit) {
-  fields_detail::visitAll(motionFieldList(), state, visit);
+  fields_detail::visitAll(kMotionFields, state, visit);
 }
 /// Calls visit(spec, array) for every per-particle field of `state`: the particles', the
 /// integrator's, and a split run's.
@@ -174,7 +181,7 @@ template <class S, class Visit>
 void forEachStateField(S& state, Visit&& visit) {
   forEachParticleField(state.particles, visit);
   forEachMotionField(state, visit);
-  fields_detail::visitAll(splitFieldList(), state, visit);
+  fields_detail::visitAll(kSplitFields, state, visit);
 }
 
 /// Calls visit(entry, offset) for each field of the particles and the integrator, offset:
@@ -183,8 +190,8 @@ void forEachStateField(S& state, Visit&& visit) {
 template <class Visit>
 constexpr void forEachRecordField(Visit&& visit) {
   std::size_t offset = 0;
-  fields_detail::visitOffsets(particleFieldList(), offset, visit);
-  fields_detail::visitOffsets(motionFieldList(), offset, visit);
+  fields_detail::visitOffsets(kParticleFields, offset, visit);
+  fields_detail::visitOffsets(kMotionFields, offset, visit);
 }
 
 /// The doubles of a particle's record: every field of the particles and the integrator.
