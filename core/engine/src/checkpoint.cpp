@@ -15,6 +15,7 @@
 #include "granular/output_file.hpp"
 #include "number_format.hpp"
 #include "pair_springs.hpp"
+#include "particle_fields.hpp"
 #include "simulation_state.hpp"
 #include "state_checks.hpp"
 
@@ -263,6 +264,25 @@ class Reader {
 
 // ---- The state, field by field, in one order for both directions --------------------------
 
+/// A per-particle field's array (particle_fields.hpp). A file older than the field lacks it:
+/// the state then holds it at zero, where it holds it at all.
+template <class Io, class T>
+void fieldIo(Io& io, const SimulationState& s, const FieldSpec& field, std::vector<T>& values) {
+  if constexpr (std::is_same_v<Io, Reader>) {
+    if (io.version() < field.since) {
+      T zero;
+      if constexpr (std::is_same_v<T, Vec3>) {
+        zero = Vec3::Zero();
+      } else {
+        zero = T{};
+      }
+      values.assign(holds(s, field.needs) ? s.particles.size() : 0, zero);
+      return;
+    }
+  }
+  io(values);
+}
+
 template <class Io>
 void fields(Io& io, SimulationState& s) {
   Material& m = s.config.material;
@@ -273,10 +293,10 @@ void fields(Io& io, SimulationState& s) {
   io(s.timeOrigin), io(s.stepsSinceOrigin), io(s.steps), io(s.frictional);
   io(s.contactScale.duration), io(s.contactScale.radius), io(s.contactScale.againstWall);
   Particles& p = s.particles;
-  io(p.position), io(p.velocity), io(p.angularVelocity), io(p.radius), io(p.mass);
+  auto perParticle = [&](const FieldSpec& field, auto& values) { fieldIo(io, s, field, values); };
+  forEachParticleField(p, perParticle);
   io(s.walls);
-  io(s.force), io(s.torque);
-  for (Derivatives* d : {&s.translation, &s.rotation}) io(d->d2), io(d->d3), io(d->d4), io(d->d5);
+  forEachMotionField(s, perParticle);
   NeighbourList& n = s.neighbours;
   // The file holds a spring per candidate pair (zero for those holding none): the layout in
   // memory (pair_springs.hpp) depends on the particle blocks, derived data built on loading.

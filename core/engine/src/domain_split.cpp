@@ -31,34 +31,11 @@ std::uint64_t idOf(const SimulationState& s, std::size_t i) {
   return s.split.globalId.empty() ? i : s.split.globalId[i];
 }
 
-/// The derivative arrays a state keeps: [motion][order - 2], null where it keeps none.
-std::array<std::array<const std::vector<Vec3>*, 4>, 2> derivativesOf(const SimulationState& s) {
-  std::array<std::array<const std::vector<Vec3>*, 4>, 2> out{};
-  const Derivatives* motions[2] = {&s.translation, &s.rotation};
-  for (int m = 0; m < 2; ++m) {
-    const Derivatives& d = *motions[m];
-    const std::vector<Vec3>* orders[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
-    for (int k = 0; k < 4; ++k) {
-      out[m][k] = orders[k]->size() == s.particles.size() ? orders[k] : nullptr;
-    }
-  }
-  return out;
-}
-
-void put3(double (&to)[3], const Vec3& v) {
-  for (int a = 0; a < 3; ++a) to[a] = v[a];
-}
-Vec3 get3(const double (&from)[3]) {
-  return Vec3(from[0], from[1], from[2]);
-}
-
 /// Appends the records of the particles `keep` selects, ascending, to `batch`.
 template <class Keep>
 void recordParticles(const SimulationState& s, Keep keep, RecordBatch& batch) {
   const Particles& p = s.particles;
   const NeighbourList& list = s.neighbours;
-  const auto derivatives = derivativesOf(s);
-  const bool torques = s.torque.size() == p.size();
   const bool references = list.referencePosition.size() == p.size();
   const std::size_t walls = list.wallParticles.size();
   std::vector<std::size_t> cursor(walls, 0);  // per wall: the next candidate not yet passed
@@ -77,18 +54,10 @@ void recordParticles(const SimulationState& s, Keep keep, RecordBatch& batch) {
     if (!keep(i)) continue;
     ParticleRecord r{};
     r.id = idOf(s, i);
-    put3(r.x, p.position[i]);
-    put3(r.v, p.velocity[i]);
-    put3(r.w, p.angularVelocity[i]);
-    r.radius = p.radius[i];
-    r.mass = p.mass[i];
-    for (int m = 0; m < 2; ++m) {
-      for (int k = 0; k < 4; ++k) {
-        if (derivatives[m][k]) put3(r.derivative[m][k], (*derivatives[m][k])[i]);
-      }
-    }
-    put3(r.force, s.force[i]);
-    if (torques) put3(r.torque, s.torque[i]);
+    forEachRecordField([&](const auto& field, std::size_t at) {
+      const auto& values = arrayOf(field, s);
+      if (values.size() == p.size()) storeDoubles(r.value + at, values[i]);
+    });
     if (references) {
       for (int a = 0; a < 3; ++a) r.reference[a] = list.referencePosition[i][a];
     }
@@ -214,45 +183,21 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
       }
     }
   }
-  Particles& p = s.particles;
   regather(s.split.globalId, n, [&](std::size_t k) {
     return pick(
         k, [](const ParticleRecord& r) { return r.id; }, [&](std::size_t i) { return idOf(s, i); });
   });
-  auto gather3 = [&](std::vector<Vec3>& v, auto field) {
-    regather(v, n, [&](std::size_t k) {
-      return pick(
-          k, [&](const ParticleRecord& r) { return get3(field(r)); },
-          [&](std::size_t i) { return v[i]; });
+  // A field the state does not hold (no entries) stays so; one it always holds is gathered
+  // even where this rank held no particles.
+  forEachRecordField([&](const auto& field, std::size_t at) {
+    using Field = std::remove_cvref_t<decltype(field)>;
+    auto& values = arrayOf(field, s);
+    if ((Field::needs & ~unsigned{kGhost}) != kAlways && values.empty()) return;
+    regather(values, n, [&](std::size_t k) -> typename Field::Value {
+      if (isRecord[k]) return loadDoubles<typename Field::Value>(records[from[k]].value + at);
+      return values[from[k]];
     });
-  };
-  gather3(p.position, [](const ParticleRecord& r) -> const double(&)[3] { return r.x; });
-  gather3(p.velocity, [](const ParticleRecord& r) -> const double(&)[3] { return r.v; });
-  gather3(p.angularVelocity, [](const ParticleRecord& r) -> const double(&)[3] { return r.w; });
-  gather3(s.force, [](const ParticleRecord& r) -> const double(&)[3] { return r.force; });
-  if (!s.torque.empty()) {
-    gather3(s.torque, [](const ParticleRecord& r) -> const double(&)[3] { return r.torque; });
-  }
-  regather(p.radius, n, [&](std::size_t k) {
-    return pick(
-        k, [](const ParticleRecord& r) { return r.radius; },
-        [&](std::size_t i) { return p.radius[i]; });
   });
-  regather(p.mass, n, [&](std::size_t k) {
-    return pick(
-        k, [](const ParticleRecord& r) { return r.mass; },
-        [&](std::size_t i) { return p.mass[i]; });
-  });
-  Derivatives* motions[2] = {&s.translation, &s.rotation};
-  for (int m = 0; m < 2; ++m) {
-    Derivatives& d = *motions[m];
-    std::vector<Vec3>* all[4] = {&d.d2, &d.d3, &d.d4, &d.d5};
-    for (int o = 0; o < 4; ++o) {
-      if (all[o]->empty()) continue;
-      gather3(*all[o],
-              [m, o](const ParticleRecord& r) -> const double(&)[3] { return r.derivative[m][o]; });
-    }
-  }
   regather(list.referencePosition, n, [&](std::size_t k) {
     return pick(
         k,
@@ -322,13 +267,17 @@ void mapGhosts(SimulationState& s, double halo) {
 
 // ---- Bytes --------------------------------------------------------------------------------
 
+/// Appends the count and the values' bytes. (Sized, then copied: GCC 12 misreads an insert of
+/// the bytes here as an overflow, -Wstringop-overflow.)
 template <class T>
 void putArray(std::vector<std::byte>& out, const std::vector<T>& values) {
   const std::uint64_t count = values.size();
-  const auto* head = reinterpret_cast<const std::byte*>(&count);
-  out.insert(out.end(), head, head + sizeof count);
-  const auto* bytes = reinterpret_cast<const std::byte*>(values.data());
-  out.insert(out.end(), bytes, bytes + values.size() * sizeof(T));
+  const std::size_t at = out.size();
+  out.resize(at + sizeof count + values.size() * sizeof(T));
+  std::memcpy(out.data() + at, &count, sizeof count);
+  if (count > 0) {  // (an empty array's data() may be null, which memcpy may not be given)
+    std::memcpy(out.data() + at + sizeof count, values.data(), values.size() * sizeof(T));
+  }
 }
 
 template <class T>
@@ -576,20 +525,17 @@ void exchangeGhosts(const SimulationState& s, std::size_t width, Put put, Get ge
 }  // namespace
 
 void refreshSplitGhosts(SimulationState& s) {
-  Particles& p = s.particles;
   exchangeGhosts(
-      s, 9,
+      s, ghostDoubles(),
       [&](std::uint32_t i, double* v) {
-        for (int a = 0; a < 3; ++a) {
-          v[a] = p.position[i][a];
-          v[3 + a] = p.velocity[i][a];
-          v[6 + a] = p.angularVelocity[i][a];
-        }
+        forEachGhostField(
+            [&](const auto& field, std::size_t at) { storeDoubles(v + at, arrayOf(field, s)[i]); });
       },
       [&](std::uint32_t g, const double* v) {
-        p.position[g] = Vec3(v[0], v[1], v[2]);
-        p.velocity[g] = Vec3(v[3], v[4], v[5]);
-        p.angularVelocity[g] = Vec3(v[6], v[7], v[8]);
+        forEachGhostField([&](const auto& field, std::size_t at) {
+          using Value = typename std::remove_cvref_t<decltype(field)>::Value;
+          arrayOf(field, s)[g] = loadDoubles<Value>(v + at);
+        });
       });
 }
 

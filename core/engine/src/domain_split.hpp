@@ -8,18 +8,19 @@
 #include <vector>
 
 #include "granular/domain_map.hpp"
+#include "particle_fields.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
 
-/// One particle's whole state, as it travels: identity, motion, the integrator's derivatives,
-/// its last forces, its reference position in the neighbour list, and its wall contacts.
+/// One particle's whole state, as it travels: identity, its fields (particle_fields.hpp: motion,
+/// the integrator's derivatives, its last forces), its reference position in the neighbour
+/// list, and its wall contacts.
 struct ParticleRecord {
   std::uint64_t id = 0;
-  double x[3], v[3], w[3];
-  double radius = 0, mass = 0;
-  double derivative[2][4][3];  ///< translation, rotation; d2..d5 (those the state keeps)
-  double force[3], torque[3];
+  /// The fields of the particles and the integrator, where forEachRecordField puts them; zero
+  /// for those the state does not hold.
+  double value[recordDoubles()];
   float reference[3];
   std::uint64_t wallCandidate = 0;  ///< bit w: a candidate of wall w in the neighbour list
   std::uint64_t wallHistoryAt = 0;  ///< its wall springs in the batch's pool (friction only)

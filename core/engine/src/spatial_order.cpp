@@ -8,6 +8,8 @@
 #include <string>
 #include <utility>
 
+#include "particle_fields.hpp"
+
 namespace granular {
 namespace {
 
@@ -57,12 +59,6 @@ Particles reordered(const Particles& p, const std::vector<std::size_t>& order) {
     throw std::invalid_argument("reordered: the order has " + std::to_string(order.size()) +
                                 " entries for " + std::to_string(p.size()) + " particles");
   }
-  Particles out;
-  out.position.reserve(p.size());
-  out.velocity.reserve(p.size());
-  out.angularVelocity.reserve(p.size());
-  out.radius.reserve(p.size());
-  out.mass.reserve(p.size());
   std::vector<bool> seen(p.size(), false);
   for (std::size_t i : order) {
     if (i >= p.size() || seen[i]) {
@@ -70,12 +66,12 @@ Particles reordered(const Particles& p, const std::vector<std::size_t>& order) {
                                   std::to_string(p.size() - 1));
     }
     seen[i] = true;
-    out.position.push_back(p.position[i]);
-    out.velocity.push_back(p.velocity[i]);
-    out.angularVelocity.push_back(p.angularVelocity[i]);
-    out.radius.push_back(p.radius[i]);
-    out.mass.push_back(p.mass[i]);
   }
+  Particles out;
+  forEachParticleFieldPair(p, out, [&](const FieldSpec&, const auto& from, auto& to) {
+    to.reserve(from.size());
+    for (std::size_t i : order) to.push_back(from[i]);
+  });
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
 #include "pair_springs.hpp"
+#include "particle_fields.hpp"
 
 namespace granular {
 
@@ -20,6 +21,12 @@ std::string describe(const Vec3& v) {
   std::ostringstream o;
   o.precision(6);
   o << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return o.str();
+}
+std::string describe(double x) {
+  std::ostringstream o;
+  o.precision(6);
+  o << x;
   return o.str();
 }
 
@@ -82,16 +89,44 @@ void checkConfig(const Checker& c, const SimulationState& s) {
   c.positive(s.contactScale.radius, "contact radius");
 }
 
+/// "particle 12: velocity (nan, 0, 0) m/s is not finite".
+template <class T>
+std::string notFinite(std::uint64_t particle, const FieldSpec& field, const T& value) {
+  // A stream, not a chain of +: GCC 12 misreads the chain as overlapping copies (-Wrestrict).
+  std::ostringstream o;
+  o << "particle " << particle << ": " << field.name << " " << describe(value);
+  if (!field.unit.empty()) o << " " << field.unit;
+  o << " is not finite";
+  return o.str();
+}
+
+bool finiteValue(const Vec3& v) {
+  return v.allFinite();
+}
+bool finiteValue(double x) {
+  return std::isfinite(x);
+}
+
+/// Every per-particle array holds an entry per particle where the state holds the field, and
+/// none where it does not (particle_fields.hpp).
+void checkFieldSizes(const Checker& c, const SimulationState& s) {
+  const std::size_t n = s.particles.size();
+  forEachStateField(s, [&](const FieldSpec& field, const auto& values) {
+    const std::size_t expected = holds(s, field.needs) ? n : 0;
+    if (values.size() != expected) {
+      c.fail("the " + std::string(field.name) + " array has " + std::to_string(values.size()) +
+             " entries, expected " + std::to_string(expected));
+    }
+  });
+}
+
 void checkParticles(const Checker& c, const SimulationState& s) {
   const Particles& p = s.particles;
   const std::size_t n = p.size();
   c.require(n > 0, "no particles");
   // Pair indices are 32-bit.
   c.require(n < std::numeric_limits<std::uint32_t>::max(), "too many particles");
-  c.sized(p.velocity, n, "velocities");
-  c.sized(p.angularVelocity, n, "angular velocities");
-  c.sized(p.radius, n, "radii");
-  c.sized(p.mass, n, "masses");
+  checkFieldSizes(c, s);
   if (const std::optional<std::string> bad = firstNonFiniteParticle(p)) c.require(false, *bad);
   for (std::size_t i = 0; i < n; ++i) {
     if (!(std::isfinite(p.radius[i]) && p.radius[i] > 0)) {
@@ -103,26 +138,13 @@ void checkParticles(const Checker& c, const SimulationState& s) {
   }
 }
 
-void checkDerivatives(const Checker& c, const SimulationState& s) {
-  const std::size_t n = s.particles.size();
-  c.sized(s.force, n, "forces");
-  c.sized(s.torque, s.frictional ? n : 0, "torques");
-  const bool gear = s.config.integrator == Integrator::Gear5;
-  for (const Derivatives* d : {&s.translation, &s.rotation}) {
-    const bool used = d == &s.translation || s.frictional;
-    const std::size_t expected = used ? n : 0;
-    c.sized(d->d2, expected, "accelerations");
-    for (const std::vector<Vec3>* higher : {&d->d3, &d->d4, &d->d5}) {
-      c.sized(*higher, gear ? expected : 0, "Gear derivatives");
+/// The integrator's fields, finite (their sizes are checked with the particles').
+void checkMotion(const Checker& c, const SimulationState& s) {
+  forEachMotionField(s, [&](const FieldSpec& field, const auto& values) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (!finiteValue(values[i])) c.fail(notFinite(i, field, values[i]));
     }
-    for (const std::vector<Vec3>* v : {&d->d2, &d->d3, &d->d4, &d->d5}) {
-      for (const Vec3& x : *v) c.finite(x, "a derivative");
-    }
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    c.finite(s.force[i], "a force");
-  }
-  for (const Vec3& t : s.torque) c.finite(t, "a torque");
+  });
 }
 
 void checkWalls(const Checker& c, const SimulationState& s) {
@@ -237,20 +259,13 @@ std::optional<std::string> firstNonFiniteParticle(const Particles& p,
   const std::size_t n = p.size();
   for (std::size_t i = 0; i < n; ++i) {
     if (owned && !(*owned)[i]) continue;
-    const char* what = nullptr;
-    const char* unit = "";
-    Vec3 value;
-    if (!p.position[i].allFinite()) {
-      what = "position", unit = "m", value = p.position[i];
-    } else if (i < p.velocity.size() && !p.velocity[i].allFinite()) {
-      what = "velocity", unit = "m/s", value = p.velocity[i];
-    } else if (i < p.angularVelocity.size() && !p.angularVelocity[i].allFinite()) {
-      what = "angular velocity", unit = "rad/s", value = p.angularVelocity[i];
-    }
-    if (what) {
-      return "particle " + std::to_string(ids ? (*ids)[i] : i) + ": " + what + " " +
-             describe(value) + " " + unit + " is not finite";
-    }
+    std::optional<std::string> found;
+    forEachParticleField(p, [&](const FieldSpec& field, const auto& values) {
+      if (!found && i < values.size() && !finiteValue(values[i])) {
+        found = notFinite(ids ? (*ids)[i] : i, field, values[i]);
+      }
+    });
+    if (found) return found;
   }
   return std::nullopt;
 }
@@ -259,7 +274,7 @@ void validateRestoredState(const SimulationState& state, const std::string& file
   const Checker c(file);
   checkConfig(c, state);
   checkParticles(c, state);
-  checkDerivatives(c, state);
+  checkMotion(c, state);
   checkWalls(c, state);
   checkNeighbours(c, state);
   checkEnergy(c, state);

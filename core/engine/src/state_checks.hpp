@@ -8,8 +8,9 @@
 
 namespace granular {
 
-/// The first particle whose position, velocity or angular velocity is not finite, described
-/// as "particle 12: velocity (nan, 0, 0) m/s is not finite"; nullopt when all are finite.
+/// The first particle with a field of Particles (particle_fields.hpp: position, velocity,
+/// angular velocity, radius, mass) not finite, described as "particle 12: velocity (nan, 0, 0)
+/// m/s is not finite"; nullopt when all are finite.
 /// With `owned` (a run split by space) only the particles owned here (owned[i] != 0) are looked
 /// at, and each is named by its global id, ids[i].
 std::optional<std::string> firstNonFiniteParticle(const Particles& particles,
