@@ -7,8 +7,19 @@
 #include <sstream>
 
 #include "granular/error.hpp"
+#include "particle_fields.hpp"
 
 namespace granular {
+namespace {
+
+bool finite(double x) {
+  return std::isfinite(x);
+}
+bool finite(const Vec3& v) {
+  return v.allFinite();
+}
+
+}  // namespace
 
 void requireConfig(bool ok, const std::string& what) {
   if (!ok) throw ConfigError(what);
@@ -104,9 +115,11 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
   validateStepControl(cfg.step);
   requireConfig(cfg.gravity.allFinite(), "gravity must be finite");
   requireConfig(p.size() > 0, "the scene has no particles");
-  requireConfig(p.velocity.size() == p.size() && p.angularVelocity.size() == p.size() &&
-                    p.radius.size() == p.size() && p.mass.size() == p.size(),
-                "particle arrays have different lengths");
+  forEachParticleField(p, [&](const FieldSpec& field, const auto& array) {
+    requireConfig(array.size() == p.size(),
+                  "particle arrays have different lengths: " + std::to_string(array.size()) + " " +
+                      std::string(field.name) + "s for " + std::to_string(p.size()) + " positions");
+  });
   for (std::size_t i = 0; i < p.size(); ++i) {
     requireConfig(std::isfinite(p.radius[i]) && p.radius[i] > 0,
                   "particle " + std::to_string(i) + ": radius " + shortNumber(p.radius[i]) +
@@ -114,9 +127,10 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
     requireConfig(
         std::isfinite(p.mass[i]) && p.mass[i] > 0,
         "particle " + std::to_string(i) + ": mass " + shortNumber(p.mass[i]) + " kg must be > 0");
-    requireConfig(
-        p.position[i].allFinite() && p.velocity[i].allFinite() && p.angularVelocity[i].allFinite(),
-        "particle " + std::to_string(i) + ": position or velocity is not finite");
+    forEachParticleField(p, [&](const FieldSpec& field, const auto& array) {
+      requireConfig(finite(array[i]), "particle " + std::to_string(i) + ": " +
+                                          std::string(field.name) + " is not finite");
+    });
   }
   for (const Wall& w : walls) {
     requireConfig(std::abs(w.normal.norm() - 1.0) < 1e-12,

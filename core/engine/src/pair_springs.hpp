@@ -111,4 +111,45 @@ PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t
                              const std::vector<std::uint32_t>& blockPair,
                              const std::vector<std::uint32_t>& blockWord);
 
+/// One block's springs rewritten in place by blockPairs, as records of S doubles: the stored
+/// record of the pair holding the `read`-th one is at source + (read - sourceOffset) S; the
+/// advanced records of the pairs that touch now are written to the array's front, `written` of
+/// them so far.
+template <std::size_t S>
+struct SpringCursor {
+  std::vector<double>* array = nullptr;
+  const double* source = nullptr;
+  std::size_t sourceOffset = 0, read = 0, written = 0, stored = 0;  // in records
+  bool setAside = false;
+
+  void start(std::vector<double>& springs) {
+    array = &springs;
+    source = springs.data();
+    stored = springs.size() / S;
+  }
+  /// The record of the `index`-th held spring (index >= read).
+  const double* at(std::size_t index) const { return source + (index - sourceOffset) * S; }
+  /// Room for m new records after those written, once the records up to `read` are loaded.
+  double* write(std::size_t m, std::vector<double>& aside) {
+    if (!setAside && written + m > read && read < stored) {
+      aside.assign(array->begin() + static_cast<std::ptrdiff_t>(read * S),
+                   array->begin() + static_cast<std::ptrdiff_t>(stored * S));
+      source = aside.data();
+      sourceOffset = read;
+      setAside = true;
+    }
+    if ((written + m) * S > array->size()) {
+      // An eighth more, not double: the springs are the largest array of a frictional bed, and
+      // between two rebuilds (which lay every array out afresh) a block gains a few contacts.
+      if ((written + m) * S > array->capacity()) array->reserve(((written + m) * 9 / 8 + 4) * S);
+      array->resize((written + m) * S);
+      if (!setAside) source = array->data();  // what is left to read kept its place
+    }
+    double* out = array->data() + written * S;
+    written += m;
+    return out;
+  }
+  void finish() { array->resize(written * S); }
+};
+
 }  // namespace granular

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "force_pass.hpp"
+#include "particle_fields.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -36,12 +37,9 @@ MemoryUse Simulation::memoryUse() const {
   const SimulationState& s = *state_;
   const Particles& p = s.particles;
   MemoryUse m;
-  m.particles = bytes(p.position) + bytes(p.velocity) + bytes(p.angularVelocity) + bytes(p.radius) +
-                bytes(p.mass);
-  m.integrator = bytes(s.force) + bytes(s.torque);
-  for (const Derivatives* d : {&s.translation, &s.rotation}) {
-    m.integrator += bytes(d->d2) + bytes(d->d3) + bytes(d->d4) + bytes(d->d5);
-  }
+  forEachParticleField(p,
+                       [&](const FieldSpec&, const auto& array) { m.particles += bytes(array); });
+  forEachMotionField(s, [&](const FieldSpec&, const auto& array) { m.integrator += bytes(array); });
   const NeighbourList& l = s.neighbours;
   m.neighbours = bytes(l.rowStart) + bytes(l.second) + bytes(l.wallParticles) +
                  bytes(l.referencePosition) + bytes(l.referenceWallPoint);

@@ -1,0 +1,208 @@
+#pragma once
+/// Contacts in and out of a chunk (contact_law.hpp): the pipeline gather → law → scatter that
+/// the force pass and the measuring pass run for pairs and walls alike (throughLaw), and its
+/// stages: picking the touching candidates, loading the bodies' values and stored histories,
+/// and reading the results back.
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "chunk_kernels.hpp"
+#include "pair_springs.hpp"
+
+namespace granular {
+
+/// Pairs (the chunk's raw columns, whose geometry the kernel computes) or wall contacts (loaded
+/// with their geometry).
+enum class ChunkOf { Pairs, Walls };
+
+/// One chunk through the pipeline: `gather(c)` fills it and returns how many contacts it holds,
+/// the kernels compute the pairs' geometry and the law (advancing the history with kAdvance),
+/// and `scatter(c, m)` takes the results.
+template <ChunkOf kOf, bool kFriction, NormalLaw kLaw, unsigned kOptional, bool kAdvance,
+          class Gather, class Scatter>
+void throughLaw(const ContactConstants& constants, ContactChunk& c, Gather&& gather,
+                Scatter&& scatter) {
+  const std::size_t m = gather(c);
+  if constexpr (kOf == ChunkOf::Pairs) geometry(c, m, kFriction);
+  law(constants, c, m, kFriction, kLaw, kAdvance, kOptional);
+  scatter(c, m);
+}
+
+/// Writes pair k's slot and particles i and j, centre offset x_j - x_i and radii into entry m of
+/// the chunk; returns 1 if the spheres touch, else 0 (the entry is then overwritten by the next
+/// one). The particles kept in the chunk spare the later loops a load through the slot.
+[[gnu::always_inline]] inline std::size_t pickPair(const Particles& p, const NeighbourList& list,
+                                                   std::uint32_t i, std::uint32_t k,
+                                                   ContactChunk& c, std::size_t m) {
+  const std::uint32_t j = list.second[k];
+  const Vec3 d = p.position[j] - p.position[i];
+  const double ri = p.radius[i], rj = p.radius[j], reach = ri + rj;
+  c.slot[m] = k;
+  c.first[m] = i;
+  c.second[m] = j;
+  c.dx[m] = d.x();
+  c.dy[m] = d.y();
+  c.dz[m] = d.z();
+  c.ri[m] = ri;
+  c.rj[m] = rj;
+  return d.squaredNorm() < reach * reach ? 1 : 0;
+}
+
+/// Picks the touching pairs among the candidates [begin, begin + count) into the chunk (slot,
+/// particles, offset and radii; loadPairs adds the rest); returns how many. Branch-free; `rows`
+/// walks the list's rows, its next run starting at `begin`.
+inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
+                                     std::size_t begin, std::size_t count, RowWalker& rows,
+                                     ContactChunk& c) {
+  std::uint32_t starts[RowWalker::kMaxRun];
+  std::uint32_t i = rows.mark(begin, count, starts);
+  std::size_t m = 0;
+  for (std::size_t k = begin; k < begin + count; ++k) {
+    i += starts[k - begin];
+    m += pickPair(p, list, i, static_cast<std::uint32_t>(k), c, m);
+  }
+  rows.reached(i);
+  return m;
+}
+
+/// Appends the touching ones among wall w's candidates [begin, begin + count) to the chunk's m
+/// entries (slot: candidate, wall: w); returns the new count. Touching when the overlap
+/// R_i - distance is positive.
+inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourList& list,
+                                            const Wall& wall, std::size_t w, std::size_t begin,
+                                            std::size_t count, ContactChunk& c, std::size_t m = 0) {
+  for (std::size_t k = begin; k < begin + count; ++k) {
+    const std::uint32_t i = list.wallParticles[w][k];
+    const double distance = (p.position[i] - wall.point).dot(wall.normal);
+    c.slot[m] = static_cast<std::uint32_t>(k);
+    c.wall[m] = static_cast<std::uint32_t>(w);
+    m += p.radius[i] - distance > 0.0 ? 1 : 0;
+  }
+  return m;
+}
+
+/// Copies a contact's stored history into entry e of the chunk: the slots of the terms the
+/// build includes (the others' rows stay untouched, so a scene without an optional term moves no
+/// more memory per contact than a model without it).
+template <bool kFriction, unsigned kOptional>
+inline void loadSpring(const ContactHistory& history, ContactChunk& c, std::size_t e) {
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) c.historyRows[k][e] = history.slot[k];
+  }
+}
+/// The same from a stored record (PairSprings: the included slots, in order).
+template <bool kFriction, unsigned kOptional>
+inline void loadSpring(const double* record, ContactChunk& c, std::size_t e) {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) c.historyRows[k][e] = record[at++];
+  }
+}
+
+/// Completes the m picked pairs in the chunk with masses, velocities and springs (their
+/// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
+template <bool kFriction, unsigned kOptional, class SpringOf>
+void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& springOf) {
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t i = c.first[e], j = c.second[e];
+    const Vec3 v = p.velocity[i] - p.velocity[j];
+    c.mi[e] = p.mass[i];
+    c.mj[e] = p.mass[j];
+    c.vx[e] = v.x();
+    c.vy[e] = v.y();
+    c.vz[e] = v.z();
+    if constexpr (kFriction) {
+      const Vec3& wi = p.angularVelocity[i];
+      const Vec3& wj = p.angularVelocity[j];
+      c.wix[e] = wi.x();
+      c.wiy[e] = wi.y();
+      c.wiz[e] = wi.z();
+      c.wjx[e] = wj.x();
+      c.wjy[e] = wj.y();
+      c.wjz[e] = wj.z();
+      loadSpring<kFriction, kOptional>(springOf(e), c, e);
+    }
+  }
+}
+
+/// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
+/// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
+/// points from the particle towards the wall. In a build with a term that reads the bodies
+/// (kReadsBodies) the raw columns get the particle's radius, mass and spin as i's, and the
+/// wall's as j's: infinite radius and mass, no spin.
+template <bool kFriction, unsigned kOptional>
+void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
+                      ContactChunk& c, std::size_t m) {
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t k = c.slot[e], w = c.wall[e];
+    const Wall& wall = walls[w];
+    const Vec3 n = -wall.normal;
+    const std::uint32_t i = list.wallParticles[w][k];
+    const double h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
+    const double arm = p.radius[i] - 0.5 * h;
+    const Vec3 v = p.velocity[i] - wall.velocity;
+    c.nx[e] = n.x();
+    c.ny[e] = n.y();
+    c.nz[e] = n.z();
+    c.overlap[e] = h;
+    c.armI[e] = arm;
+    c.radius[e] = p.radius[i];
+    c.mass[e] = p.mass[i];
+    c.vx[e] = v.x();
+    c.vy[e] = v.y();
+    c.vz[e] = v.z();
+    if constexpr (kFriction) {
+      const Vec3 contactVelocity = v + arm * p.angularVelocity[i].cross(n);
+      c.cx[e] = contactVelocity.x();
+      c.cy[e] = contactVelocity.y();
+      c.cz[e] = contactVelocity.z();
+      loadSpring<kFriction, kOptional>(list.wallHistory[w][k], c, e);
+    }
+    if constexpr (kReadsBodies<kFriction, kOptional>) {
+      constexpr double kInfinite = std::numeric_limits<double>::infinity();
+      if constexpr (kFriction) {
+        const Vec3& wi = p.angularVelocity[i];
+        c.wix[e] = wi.x();
+        c.wiy[e] = wi.y();
+        c.wiz[e] = wi.z();
+        c.wjx[e] = c.wjy[e] = c.wjz[e] = 0.0;
+      }
+      c.ri[e] = p.radius[i];
+      c.mi[e] = p.mass[i];
+      c.rj[e] = c.mj[e] = kInfinite;
+    }
+  }
+}
+
+inline Vec3 forceOf(const ContactChunk& c, std::size_t e) {
+  return {c.fx[e], c.fy[e], c.fz[e]};
+}
+/// A term's pure torque on i of the chunk's entry e (kPureTorque; −it on the other body).
+[[maybe_unused]] inline Vec3 pureTorqueOf(const ContactChunk& c, std::size_t e) {
+  return {c.qx[e], c.qy[e], c.qz[e]};
+}
+inline Vec3 normalOf(const ContactChunk& c, std::size_t e) {
+  return {c.nx[e], c.ny[e], c.nz[e]};
+}
+
+template <unsigned kOptional>
+inline void storeRecord(const ContactChunk& c, std::size_t e, double* record) {
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<true, kOptional>[k]) record[at++] = c.historyRows[k][e];
+  }
+}
+
+/// The advanced history of the chunk's entry e (zero in the slots of terms the build leaves out).
+template <bool kFriction, unsigned kOptional>
+inline ContactHistory springOf(const ContactChunk& c, std::size_t e) {
+  ContactHistory history;
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kIncludedHistorySlots<kFriction, kOptional>[k]) history.slot[k] = c.historyRows[k][e];
+  }
+  return history;
+}
+
+}  // namespace granular
