@@ -16,6 +16,7 @@
 #include "granular/contact_terms/normal_damping.hpp"
 #include "granular/contact_terms/normal_elastic.hpp"
 #include "granular/contact_terms/rolling_resistance.hpp"
+#include "granular/contact_terms/sjkr_cohesion.hpp"
 #include "granular/contact_terms/tangential_damping.hpp"
 #include "granular/contact_terms/tangential_spring.hpp"
 
@@ -26,7 +27,7 @@ struct TermList {};
 
 /// The terms, in the order they act on a contact (the bodies' own material first).
 using ContactModel = TermList<Body, NormalElastic, NormalDamping, TangentialSpring,
-                              TangentialDamping, RollingResistance>;
+                              TangentialDamping, RollingResistance, SjkrCohesion>;
 
 /// A struct holding every term's Parameters (Material derives from it).
 template <class List>
