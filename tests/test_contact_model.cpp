@@ -73,6 +73,23 @@ std::string ruleContext(const ParameterSpec& p) {
   return "friction = 0.5\n";
 }
 
+TEST(ContactModel, ATermThatMayPullActsAfterTheNoPullFloor) {
+  // The floor F_n = max(0, ·) is the normal dashpot's: a term listed before it would have its
+  // pull clamped away. Every term that may pull comes after it, and some term does (cohesion).
+  const auto terms = contactTerms();
+  std::size_t floor = terms.size(), pulling = 0;
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    if (terms[k].name == NormalDamping::name) floor = k;
+  }
+  ASSERT_LT(floor, terms.size());
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    if (!terms[k].mayPull) continue;
+    ++pulling;
+    EXPECT_GT(k, floor) << terms[k].name << " may pull but acts before the floor";
+  }
+  EXPECT_GT(pulling, 0u);
+}
+
 TEST(ContactModel, EveryTermDeclaresItsParametersOnceWithUnitRangeAndDoc) {
   std::set<std::string> keys;
   for (const ParameterSpec& p : materialParameters()) {

@@ -86,6 +86,7 @@ TermSpec termSpecOf() {
   if constexpr (requires(const Material& m) { T::active(m); }) {
     t.active = [](const Material& m) { return T::active(m); };
   }
+  if constexpr (requires { T::mayPull; }) t.mayPull = T::mayPull;
   return t;
 }
 

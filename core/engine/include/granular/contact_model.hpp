@@ -144,6 +144,8 @@ struct TermSpec {
   std::string_view stableStep;
   /// An optional term's `active` (whether a material uses it); nullptr: the term always acts.
   bool (*active)(const Material&) = nullptr;
+  /// Its normal force may be attractive (it then acts after the normal dashpot's no-pull floor).
+  bool mayPull = false;
 };
 
 /// An energy account with its slot (the force pass's index for it) and term.
