@@ -1,8 +1,9 @@
 #pragma once
-/// The keys each table of a scene file accepts. The loader (scene_loader.cpp) checks every table
-/// against these lists, and a test checks docs/scenes.md against them in both directions, so
-/// the documentation cannot drift from the validator. [material] is not here: its keys are the
-/// contact model's declared parameters (granular/contact_model.hpp, materialParameters()).
+/// The keys each table of a scene file accepts. The loader (scene_loader.cpp, with
+/// particles_reader.cpp and stages_reader.cpp) checks every table against these lists, and a test
+/// checks docs/scenes.md against them in both directions, so the documentation cannot drift from
+/// the validator. [material] is not here: its keys are the contact model's declared parameters
+/// (granular/contact_model.hpp, materialParameters()).
 #include <span>
 #include <string_view>
 #include <vector>
