@@ -1,8 +1,10 @@
 /// granular_bench_heap — the angle of repose of a heap on a floor, for several rolling friction
 /// coefficients μ_r (the EPSD rolling resistance of Ai, Chen, Rotter & Ooi, Powder Technology 206
-/// (2011) 269–282; granular/contact_terms/rolling_resistance.hpp, docs/physics.md §2.13). Ai et
-/// al. find the angle of repose growing with μ_r; this program measures the same trend with
-/// granular's contact model. It builds the heap one of two ways (--method):
+/// (2011) 269–282; granular/contact_terms/rolling_resistance.hpp, docs/physics.md §2.13) and
+/// cohesion energy densities k_c (SJKR cohesion, granular/contact_terms/sjkr_cohesion.hpp). Ai et
+/// al. find the angle of repose growing with μ_r, and studies of cohesive powders with cohesion;
+/// this program measures both with granular's contact model. It builds the heap one of two ways
+/// (--method):
 ///   - collapse, the default: spheres settle in a column on the floor, whose side walls then
 ///     recede slowly and let them slump into a heap;
 ///   - pour: batches of spheres dropped on the floor's centre, as from a funnel.
@@ -12,7 +14,7 @@
 /// default size), and each time every spring starts again unstretched: a bias of unknown size.
 /// The pour remains for comparison.
 ///
-/// Common to both methods, so that rows differ only in the method, μ_r and the seed:
+/// Common to both methods, so that rows differ only in the method, μ_r, k_c and the seed:
 ///   - N spheres (--particles, default 3000), radii uniform in [0.9 R, 1.1 R], R = 5 mm,
 ///     density 2500 kg/m³;
 ///   - Hooke normal law, E = 1e7 Pa, ν = 0.3, G = E/(2(1 + ν)): soft enough for a step of
@@ -24,7 +26,26 @@
 ///     pairs rebound alike); γt = 10 1/s, the default;
 ///   - Coulomb friction μ = 0.5 and rolling friction μ_r, particles and walls alike (the engine
 ///     has one coefficient of each); β_r = 2.25 and η_r = 0.3, Ai et al.'s values;
+///   - SJKR cohesion k_c [J/m³] (--cohesion, default 0: none), Material::cohesionEnergyDensity,
+///     particles and walls alike: touching bodies attract with k_c A, A their contact circle's
+///     area, ≈ 2π R* h at overlap h (R* the reduced radius; a wall: R* = r_i). Hooke's spring,
+///     (2/3) E/(1 − ν²) R* h, grows in the same proportion, so the net normal force of a contact
+///     is the spring's times 1 − k_c/k_c* (less A's h² term), k_c* = E/(3π(1 − ν²)) ≈ 1.17e6
+///     J/m³ here for every pair of radii: with this law cohesion softens the normal spring but
+///     never holds a contact in tension (no pull-off force, unlike Hertz's law). It acts where
+///     it is not cancelled: the Coulomb and rolling caps see the repulsion only, the spring's
+///     N/(1 − k_c/k_c*) for a net load N (as if μ and μ_r grew by that factor), and a separating
+///     contact whose dashpot reaches the no-pull floor is pulled by k_c A until it opens.
+///     A load of one sphere's weight m g meets a cohesive force k_c A = m g k_c/(k_c* − k_c):
+///     a Bond number of 0.01 at k_c = 1e4, 0.09 at 1e5, 1 at 5.8e5. At k_c ≥ k_c* a contact
+///     has no stiffness left and collapses, so the program refuses such values. γn is the same
+///     for all k_c (e = 0.5 holds without cohesion);
 ///   - velocity Verlet at Δt = t_c/10, t_c the stiffest contact's duration (the engine's limit);
+///     the engine checks it against the contact network's stable step (docs/physics.md §2.15),
+///     which keeps a 10 % margin below a frequency bound itself 1.3–1.5 × the exact one, and
+///     Δt is near it in the column's impacts (a cohesive row, k_c = 1e4, seed 1, met 1.009 ×).
+///     A row goes on past such a check (on_unstable = warn) rather than ending the program; its
+///     "at rest" cell (and the CSV) give the worst ratio Δt / network step and the checks' count;
 ///   - the floor z = 0, an unbounded plane; at rest, nothing else holds the heap's foot.
 ///
 /// Collapse:
@@ -87,11 +108,21 @@
 /// the axes and the diagonals), tells a polygonal heap from a cone: the faces' mean and the
 /// corners' mean. Narrow sectors hold few spheres per bin and read a degree or two low.
 ///
+/// Cohesion and the criteria above: with Hooke's law no contact holds tension, so nothing can
+/// stand in place of the column: its spheres slump as without cohesion, and the side walls go out
+/// of reach as before (no sphere clings to a receding wall at rest). Were a column or a steeper
+/// flank to stand, the walls would still go out of reach (2 R from every sphere) and the rest test
+/// would end the run; a flank that is vertical, or has fewer than 3 bins between 0.2 H and 0.8 H
+/// before a gap, reads "n/a". Every run ends at --max-time at the latest. A cohesive sphere
+/// that leaves the heap is counted off it ("lone") like any other, by touching no other sphere.
+///
 /// Usage: granular_bench_heap [--method collapse|pour] [--rolling-friction 0,0.05,0.1]
-///                            [--seed 1[,2,...]] [--particles N] [--threads T] [--max-time S]
-///                            [--wall-speed V] [--sides n] [--out FILE.csv]
-/// Prints a Markdown table on stdout (a row per seed and μ_r) and progress on stderr; --out
-/// writes the same rows as CSV. On 2 threads at the default size (OMP_WAIT_POLICY=passive) a
+///                            [--cohesion 0[,1e4,...]] [--seed 1[,2,...]] [--particles N]
+///                            [--threads T] [--max-time S] [--wall-speed V] [--sides n]
+///                            [--out FILE.csv]
+/// --cohesion takes k_c [J/m³], each in [0, k_c*). Prints a Markdown table on stdout (a row per
+/// seed, μ_r and k_c: every combination, k_c innermost) and progress on stderr; --out writes the
+/// same rows as CSV. On 2 threads at the default size (OMP_WAIT_POLICY=passive) a
 /// collapse row takes about 55–65 s (70 s at μ_r = 0, which runs to --max-time), a pour row
 /// about 30 s. Exit status: 0 done, 1 I/O or numerical error, 2 bad arguments or a
 /// configuration the engine refuses.
@@ -157,6 +188,7 @@ const char* methodName(Method m) {
 struct Options {
   Method method = Method::Collapse;
   std::vector<double> rollingFriction{0.0, 0.05, 0.1};
+  std::vector<double> cohesion{0.0};  // k_c [J/m³]
   std::vector<unsigned> seeds{1};
   int particles = 3000;
   int threads = 2;
@@ -201,7 +233,12 @@ double normalDampingFor(const Material& m) {
   return 0.5 * (lo + hi);
 }
 
-Material heapMaterial(double rollingFriction) {
+/// k_c* [J/m³]: the cohesion energy density at which SJKR's pull, 2π R* k_c h to first order
+/// in the overlap h, cancels Hooke's spring (2/3) E/(1 − ν²) R* h, for every pair of radii.
+constexpr double kCohesionLimit = kYoung / (3.0 * std::numbers::pi * (1.0 - kPoisson * kPoisson));
+
+/// γn is chosen without cohesion, so that rows differ only in k_c.
+Material heapMaterial(double rollingFriction, double cohesion) {
   Material m;
   m.density = kDensity;
   m.youngModulus = kYoung;
@@ -210,17 +247,19 @@ Material heapMaterial(double rollingFriction) {
   m.friction = kFriction;
   m.rollingFriction = rollingFriction;
   m.normalDamping = normalDampingFor(m);
+  m.cohesionEnergyDensity = cohesion;
   return m;
 }
 
-SimulationConfig heapConfig(const Options& o, double rollingFriction) {
+SimulationConfig heapConfig(const Options& o, double rollingFriction, double cohesion) {
   SimulationConfig cfg;
-  cfg.material = heapMaterial(rollingFriction);
+  cfg.material = heapMaterial(rollingFriction, cohesion);
   cfg.gravity = Vec3(0, 0, -kGravity);
   cfg.integrator = Integrator::VelocityVerlet;
   cfg.threads = o.threads;
   cfg.impactSpeed = kImpactSpeed;
   cfg.timeStep = stiffestContact(cfg.material, 0.9 * kRadius, cfg.impactSpeed).duration / 10.0;
+  cfg.step.onUnstable = OnUnstable::Warn;  // counted and reported by the row (header comment)
   return cfg;
 }
 
@@ -487,6 +526,7 @@ struct CaseResult {
   Method method = Method::Collapse;
   int sides = 4;  // of the column, 4 for the pour (its faces / corners diagnostic)
   double rollingFriction = 0;
+  double cohesion = 0;  // k_c [J/m³]
   unsigned seed = 0;
   HeapShape shape;
   std::size_t particles = 0;
@@ -499,6 +539,9 @@ struct CaseResult {
   double simulated = 0, wall = 0;
   bool atRest = false;
   double restEnergy = 0;  // heap kinetic energy per sphere at the end [m̄ g R]
+  // Step checks that found Δt above the network's stable step, and the worst Δt / that step.
+  std::uint64_t unstableChecks = 0;
+  double worstStepRatio = 0;
   std::uint64_t steps = 0;
 };
 
@@ -525,13 +568,27 @@ void reportProgress(const CaseResult& r, const Simulation& sim, const char* phas
   if (std::isfinite(r.restEnergy)) {
     std::snprintf(heap, sizeof heap, "heap kinetic energy %.3g m g R per sphere", r.restEnergy);
   }
-  std::fprintf(stderr, "%s mu_r %g seed %u: t = %.2f s, %s, %s, wall %.0f s\n",
-               methodName(r.method), r.rollingFriction, r.seed, sim.time(), phase, heap,
+  std::fprintf(stderr, "%s mu_r %g k_c %g seed %u: t = %.2f s, %s, %s, wall %.0f s\n",
+               methodName(r.method), r.rollingFriction, r.cohesion, r.seed, sim.time(), phase, heap,
                clock.seconds());
+}
+
+/// Adds a Simulation's step checks above the network's stable step to the row's.
+void tallyUnstable(CaseResult& result, const Simulation& sim) {
+  result.unstableChecks += sim.counters().unstableChecks;
+  result.worstStepRatio = std::max(result.worstStepRatio, sim.counters().worstStepRatio);
 }
 
 /// The heap's measurement and the run's figures at its end.
 void finish(CaseResult& result, const Simulation& sim, const Stopwatch& clock) {
+  tallyUnstable(result, sim);
+  if (result.unstableChecks > 0) {
+    std::fprintf(stderr,
+                 "%s mu_r %g k_c %g seed %u: %llu step checks found the step above the "
+                 "network's stable step, at most %.3f x\n",
+                 methodName(result.method), result.rollingFriction, result.cohesion, result.seed,
+                 static_cast<unsigned long long>(result.unstableChecks), result.worstStepRatio);
+  }
   const std::vector<char> touching = touchesAnother(sim);
   result.restEnergy = heapKinetic(sim, touching);
   result.lone = static_cast<std::size_t>(std::count(touching.begin(), touching.end(), 0));
@@ -541,9 +598,9 @@ void finish(CaseResult& result, const Simulation& sim, const Stopwatch& clock) {
   result.wall = clock.seconds();
 }
 
-CaseResult runPour(const Options& o, double rollingFriction, unsigned seed) {
+CaseResult runPour(const Options& o, double rollingFriction, double cohesion, unsigned seed) {
   const Stopwatch clock;
-  const SimulationConfig cfg = heapConfig(o, rollingFriction);
+  const SimulationConfig cfg = heapConfig(o, rollingFriction, cohesion);
   const std::vector<Wall> walls = heapWalls(Method::Pour, 0);
   const auto chunk = static_cast<std::uint64_t>(std::ceil(kCheckInterval / cfg.timeStep));
   const auto batchChunks = static_cast<int>(std::lround(kPourInterval / kCheckInterval));
@@ -559,6 +616,7 @@ CaseResult runPour(const Options& o, double rollingFriction, unsigned seed) {
   result.method = Method::Pour;
   result.sides = 4;
   result.rollingFriction = rollingFriction;
+  result.cohesion = cohesion;
   result.seed = seed;
   result.released = 0.0;
   double lastReport = 0.0;
@@ -574,6 +632,7 @@ CaseResult runPour(const Options& o, double rollingFriction, unsigned seed) {
       pourBatch(p, count, random);
       poured += count;
       const double t = sim.time();
+      tallyUnstable(result, sim);
       sim = Simulation(std::move(p), walls, cfg);
       sim.setTime(t);
       result.released = t;
@@ -603,9 +662,9 @@ double wallGap(const Particles& p, const Wall& w) {
   return gap;
 }
 
-CaseResult runCollapse(const Options& o, double rollingFriction, unsigned seed) {
+CaseResult runCollapse(const Options& o, double rollingFriction, double cohesion, unsigned seed) {
   const Stopwatch clock;
-  const SimulationConfig cfg = heapConfig(o, rollingFriction);
+  const SimulationConfig cfg = heapConfig(o, rollingFriction, cohesion);
   const auto chunk = static_cast<std::uint64_t>(std::ceil(kCheckInterval / cfg.timeStep));
   // The column's top has reached the floor's neighbourhood once it has fallen its height.
   const double fall = std::sqrt(2.0 * columnHeight(o.particles, o.sides) / kGravity) + 0.1;
@@ -616,6 +675,7 @@ CaseResult runCollapse(const Options& o, double rollingFriction, unsigned seed) 
   result.method = Method::Collapse;
   result.sides = o.sides;
   result.rollingFriction = rollingFriction;
+  result.cohesion = cohesion;
   result.seed = seed;
   const double restKinetic =
       kRestEnergy * double(o.particles) * sphereMass(kRadius) * kGravity * kRadius;
@@ -637,8 +697,9 @@ CaseResult runCollapse(const Options& o, double rollingFriction, unsigned seed) 
         for (std::size_t i = 0; i < sim.particles().size(); ++i) {
           top = std::max(top, sim.particles().position[i].z() + sim.particles().radius[i]);
         }
-        std::fprintf(stderr, "collapse mu_r %g seed %u: t = %.2f s, settled to %.3f m, release\n",
-                     rollingFriction, seed, sim.time(), top);
+        std::fprintf(stderr,
+                     "collapse mu_r %g k_c %g seed %u: t = %.2f s, settled to %.3f m, release\n",
+                     rollingFriction, cohesion, seed, sim.time(), top);
         for (std::size_t w : sides) sim.setWallVelocity(w, -o.wallSpeed * sim.walls()[w].normal);
       }
     } else {
@@ -687,7 +748,7 @@ CaseResult runCollapse(const Options& o, double rollingFriction, unsigned seed) 
 }
 
 void printSetup(const Options& o) {
-  const SimulationConfig cfg = heapConfig(o, 0.0);
+  const SimulationConfig cfg = heapConfig(o, 0.0, 0.0);
   const Material& m = cfg.material;
   std::printf(
       "Heap on a floor, method %s: N = %d spheres, R = %g m (radii uniform in [0.9 R, 1.1 R]), "
@@ -712,14 +773,15 @@ void printSetup(const Options& o) {
         batchSize(), kPourInterval, kPourRadius, kPourHeight, kPourGap, kPourFraction);
   }
   std::printf(
-      "rest at heap kinetic energy < %g m g R per sphere, at most %g s; flank fit over %g-%g H "
-      "in bins of %g m.\n\n",
-      kRestEnergy, o.maxTime, kFlankLow, kFlankHigh, kBinWidth);
+      "SJKR cohesion k_c per row (Hooke's spring cancelled at k_c* = %.4g J/m^3); rest at heap "
+      "kinetic energy < %g m g R per sphere, at most %g s; flank fit over %g-%g H in bins of "
+      "%g m.\n\n",
+      kCohesionLimit, kRestEnergy, o.maxTime, kFlankLow, kFlankHigh, kBinWidth);
   std::printf(
-      "| method | mu_r | seed | angle [deg] | sectors [deg] | faces / corners [deg] "
+      "| method | mu_r | k_c [J/m^3] | seed | angle [deg] | sectors [deg] | faces / corners [deg] "
       "| peak height [m] | radius [m] | fit range [m] | fit rms [m] | particles | lone "
       "| released [s] | walls away [s] | simulated [s] | at rest | wall [s] |\n"
-      "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|---:|\n");
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---|---:|\n");
   std::fflush(stdout);
 }
 
@@ -740,28 +802,35 @@ void printRow(const CaseResult& r) {
   const std::string faces = cell(s.faces.mean, 1) + " / " + cell(s.corners.mean, 1);
   std::string method = methodName(r.method);
   if (r.method == Method::Collapse) method += " (" + std::to_string(r.sides) + " sides)";
+  std::string rest = r.atRest ? "yes" : "no";
+  if (r.unstableChecks > 0) {
+    rest += " (step " + cell(r.worstStepRatio, 3) + " x network's, " +
+            std::to_string(r.unstableChecks) + " checks)";
+  }
   std::string away = "n/a";
   if (std::isfinite(r.wallsAway))
     away = cell(r.wallsAway, 2) + " (" + cell(r.wallsAwayAt, 3) + " m)";
   std::printf(
-      "| %s | %g | %u | %s | %s | %s | %.4f | %s | %s–%s (%d bins) | %s | %zu | %zu | %s | %s "
+      "| %s | %g | %g | %u | %s | %s | %s | %.4f | %s | %s–%s (%d bins) | %s | %zu | %zu | %s | %s "
       "| %.2f | %s | %.0f |\n",
-      method.c_str(), r.rollingFriction, r.seed, cell(s.all.angle, 1).c_str(), sectors.c_str(),
-      faces.c_str(), s.peak, cell(s.all.foot, 4).c_str(), cell(s.all.rMin, 4).c_str(),
-      cell(s.all.rMax, 4).c_str(), s.all.bins, cell(s.all.residual, 4).c_str(), r.particles, r.lone,
-      cell(r.released, 2).c_str(), away.c_str(), r.simulated, r.atRest ? "yes" : "no", r.wall);
+      method.c_str(), r.rollingFriction, r.cohesion, r.seed, cell(s.all.angle, 1).c_str(),
+      sectors.c_str(), faces.c_str(), s.peak, cell(s.all.foot, 4).c_str(),
+      cell(s.all.rMin, 4).c_str(), cell(s.all.rMax, 4).c_str(), s.all.bins,
+      cell(s.all.residual, 4).c_str(), r.particles, r.lone, cell(r.released, 2).c_str(),
+      away.c_str(), r.simulated, rest.c_str(), r.wall);
   std::fflush(stdout);
 }
 
 void writeRow(std::ofstream& csv, const CaseResult& r) {
   const HeapShape& s = r.shape;
-  csv << methodName(r.method) << ',' << r.sides << ',' << r.rollingFriction << ',' << r.seed << ','
-      << s.all.angle << ',' << s.sectors.mean << ',' << s.sectors.sd << ',' << s.sectors.count
-      << ',' << s.faces.mean << ',' << s.corners.mean << ',' << s.peak << ',' << s.all.foot << ','
-      << s.all.rMin << ',' << s.all.rMax << ',' << s.all.bins << ',' << s.all.residual << ','
-      << r.particles << ',' << r.lone << ',' << r.released << ',' << r.wallsAway << ','
-      << r.wallsAwayAt << ',' << r.simulated << ',' << (r.atRest ? 1 : 0) << ',' << r.restEnergy
-      << ',' << r.steps << ',' << r.wall << '\n';
+  csv << methodName(r.method) << ',' << r.sides << ',' << r.rollingFriction << ',' << r.cohesion
+      << ',' << r.seed << ',' << s.all.angle << ',' << s.sectors.mean << ',' << s.sectors.sd << ','
+      << s.sectors.count << ',' << s.faces.mean << ',' << s.corners.mean << ',' << s.peak << ','
+      << s.all.foot << ',' << s.all.rMin << ',' << s.all.rMax << ',' << s.all.bins << ','
+      << s.all.residual << ',' << r.particles << ',' << r.lone << ',' << r.released << ','
+      << r.wallsAway << ',' << r.wallsAwayAt << ',' << r.simulated << ',' << (r.atRest ? 1 : 0)
+      << ',' << r.restEnergy << ',' << r.steps << ',' << r.unstableChecks << ',' << r.worstStepRatio
+      << ',' << r.wall << '\n';
   csv.flush();
   if (!csv) throw IoError("cannot write the CSV file");
 }
@@ -772,19 +841,23 @@ int run(const Options& o) {
     csv.open(o.out);
     if (!csv) throw IoError(o.out.string() + ": cannot write");
     csv.precision(10);
-    csv << "method,sides,mu_r,seed,angle_deg,sector_angle_mean_deg,sector_angle_sd_deg,sectors_"
+    csv << "method,sides,mu_r,k_c_J_per_m3,seed,angle_deg,sector_angle_mean_deg,sector_angle_sd_"
+           "deg,sectors_"
            "fitted,"
            "faces_angle_mean_deg,corners_angle_mean_deg,peak_height_m,radius_m,fit_r_min_m,"
            "fit_r_max_m,fit_bins,fit_rms_m,particles,lone_particles,released_s,walls_away_s,"
-           "walls_away_at_m,simulated_s,at_rest,heap_kinetic_per_mgR,steps,wall_s\n";
+           "walls_away_at_m,simulated_s,at_rest,heap_kinetic_per_mgR,steps,"
+           "unstable_checks,worst_step_ratio,wall_s\n";
   }
   printSetup(o);
   for (unsigned seed : o.seeds) {
     for (double mur : o.rollingFriction) {
-      const CaseResult r =
-          o.method == Method::Collapse ? runCollapse(o, mur, seed) : runPour(o, mur, seed);
-      printRow(r);
-      if (csv.is_open()) writeRow(csv, r);
+      for (double kc : o.cohesion) {
+        const CaseResult r = o.method == Method::Collapse ? runCollapse(o, mur, kc, seed)
+                                                          : runPour(o, mur, kc, seed);
+        printRow(r);
+        if (csv.is_open()) writeRow(csv, r);
+      }
     }
   }
   return 0;
@@ -794,7 +867,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"Angle of repose of a heap on a floor against rolling friction"};
+  CLI::App app{"Angle of repose of a heap on a floor against rolling friction and cohesion"};
   std::string method = "collapse";
   app.add_option("--method", method,
                  "How the heap is built: collapse (a column whose walls recede; default) or "
@@ -803,6 +876,10 @@ int main(int argc, char** argv) {
   app.add_option("--rolling-friction", o.rollingFriction,
                  "Rolling friction coefficients mu_r, comma-separated, each in [0, 1] "
                  "(default 0,0.05,0.1)")
+      ->delimiter(',');
+  app.add_option("--cohesion", o.cohesion,
+                 "SJKR cohesion energy densities k_c [J/m^3], comma-separated, each in [0, "
+                 "1.17e6) (Material::cohesionEnergyDensity; default 0: none)")
       ->delimiter(',');
   app.add_option("--seed", o.seeds, "Seeds of the placement, comma-separated (default 1)")
       ->delimiter(',');
@@ -832,6 +909,15 @@ int main(int argc, char** argv) {
       char value[32];
       std::snprintf(value, sizeof value, "%g", mur);
       return refuse("--rolling-friction " + std::string(value) + " is not in [0, 1]");
+    }
+  }
+  if (o.cohesion.empty()) return refuse("--cohesion needs at least one value");
+  for (double kc : o.cohesion) {
+    if (!(kc >= 0.0 && kc < kCohesionLimit)) {
+      char value[96];
+      std::snprintf(value, sizeof value, "%g is not in [0, %.4g) J/m^3", kc, kCohesionLimit);
+      return refuse("--cohesion " + std::string(value) +
+                    " (at k_c* the pull cancels Hooke's spring)");
     }
   }
   if (o.seeds.empty()) return refuse("--seed needs at least one value");

@@ -73,11 +73,11 @@ case $case in
     ;;
   heap)
     # build/release/bench/granular_bench_heap --rolling-friction 0,0.05,0.1 --seed 1,2
-    # --out heap.csv (docs/validation.md §6a), and --method pour
+    # --out heap.csv (docs/validation.md §6a), --cohesion (§6c), and --method pour
     run "$bench/granular_bench_heap" --rolling-friction 0,0.1 --seed 1 --particles 200 \
       --max-time 0.5 --out "$out/heap.csv"
-    run "$bench/granular_bench_heap" --method pour --rolling-friction 0.1 --particles 200 \
-      --max-time 0.5
+    run "$bench/granular_bench_heap" --method pour --rolling-friction 0.1 --cohesion 0,1e5 \
+      --particles 200 --max-time 0.5
     test -s "$out/heap.csv"
     ;;
   ranks)
