@@ -18,6 +18,7 @@
 #include "granular/contact_model.hpp"
 #include "granular/contact_terms/sjkr_cohesion.hpp"
 #include "granular/contact_theory.hpp"
+#include "granular/error.hpp"
 #include "physics_fixtures.hpp"
 
 using namespace granular;
@@ -246,4 +247,25 @@ TEST(SjkrCohesion, ACheckpointCarriesTheCohesionAndItsAccountBitForBit) {
   EXPECT_LT(straight.energy().of("cohesion_J"), 0.0);
   EXPECT_EQ(straight.energy().of("cohesion_J"), resumed.energy().of("cohesion_J"));
   EXPECT_EQ(straight.energy().total(), resumed.energy().total());
+}
+
+TEST(SjkrCohesion, AHookeBondThatOutpullsTheSpringIsRefusedByName) {
+  // Hooke's spring κ R h against the pull ≈ 2π R k_c h: from k_c = κ/(2π) on nothing holds a
+  // contact. Refused there, accepted just below, and never under Hertz's law.
+  Material m;
+  const double limit = m.normalCoefficient() / (2.0 * pi);
+  m.cohesionEnergyDensity = 1.0001 * limit;
+  try {
+    validateMaterial(m);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("material.cohesion_energy_density"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("hooke"), std::string::npos) << e.what();
+  }
+  m.cohesionEnergyDensity = 0.9999 * limit;
+  EXPECT_NO_THROW(validateMaterial(m));
+  m.cohesionEnergyDensity = 10.0 * limit;
+  m.normalLaw = NormalLaw::Hertz;
+  EXPECT_NO_THROW(validateMaterial(m));
 }

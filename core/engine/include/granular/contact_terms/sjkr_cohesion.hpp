@@ -33,6 +33,20 @@ struct SjkrCohesion {
                                   "contact circle's area; 0 switches cohesion off",
                                   &Parameters::cohesionEnergyDensity},
   };
+  /// Under Hooke's law the pull grows with the overlap as the spring does (k_c A ≈ 2π R_ij k_c h
+  /// against (2/3) E/(1−ν²) R_ij h): from k_c = E/(3π(1−ν²)) on, no overlap holds a contact and
+  /// bodies pass through each other. Hertz's spring outgrows the pull at some overlap.
+  template <class Material>
+  static RuleProblem rule(const Material& m) {
+    if (m.normalLaw == NormalLaw::Hooke &&
+        2.0 * std::numbers::pi * m.cohesionEnergyDensity >= m.normalCoefficient()) {
+      return {"cohesion_energy_density",
+              "needs cohesion_energy_density < youngs_modulus / (3π (1 − poisson_ratio²)) with "
+              "normal_law = \"hooke\": above it the pull outgrows the spring at every overlap "
+              "and bodies pass through each other"};
+    }
+    return {};
+  }
   /// A scene without cohesion runs the law's build without this term.
   static bool active(const Parameters& p) { return p.cohesionEnergyDensity > 0.0; }
 
