@@ -38,8 +38,10 @@ struct ModelConstants<TermList<Terms...>> : TermConstantsSlot<Terms>... {
 struct ContactConstants {
   double dt;                           ///< the step [s]
   ModelConstants<ContactModel> terms;  ///< each term's own constants
+  double reach;  ///< how far beyond touch the terms act [m] (reachBeyondTouch)
 
-  ContactConstants(const Material& material, double step) : dt(step), terms(material) {}
+  ContactConstants(const Material& material, double step)
+      : dt(step), terms(material), reach(reachBeyondTouch(material)) {}
 
   /// Term T's own constants (its `Constants`).
   template <class T>

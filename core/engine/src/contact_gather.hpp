@@ -32,13 +32,17 @@ void throughLaw(const ContactConstants& constants, ContactChunk& c, Gather&& gat
 
 /// Writes pair k's slot and particles i and j, centre offset x_j - x_i and radii into entry m of
 /// the chunk; returns 1 if the spheres touch, else 0 (the entry is then overwritten by the next
-/// one). The particles kept in the chunk spare the later loops a load through the slot.
+/// one). The particles kept in the chunk spare the later loops a load through the slot. In a
+/// build with a term that acts beyond touch (kReach), "touch" is within `beyond` of touching.
+template <bool kReach>
 [[gnu::always_inline]] inline std::size_t pickPair(const Particles& p, const NeighbourList& list,
                                                    std::uint32_t i, std::uint32_t k,
-                                                   ContactChunk& c, std::size_t m) {
+                                                   ContactChunk& c, std::size_t m, double beyond) {
   const std::uint32_t j = list.second[k];
   const Vec3 d = p.position[j] - p.position[i];
-  const double ri = p.radius[i], rj = p.radius[j], reach = ri + rj;
+  const double ri = p.radius[i], rj = p.radius[j];
+  double reach = ri + rj;
+  if constexpr (kReach) reach += beyond;
   c.slot[m] = k;
   c.first[m] = i;
   c.second[m] = j;
@@ -53,15 +57,16 @@ void throughLaw(const ContactConstants& constants, ContactChunk& c, Gather&& gat
 /// Picks the touching pairs among the candidates [begin, begin + count) into the chunk (slot,
 /// particles, offset and radii; loadPairs adds the rest); returns how many. Branch-free; `rows`
 /// walks the list's rows, its next run starting at `begin`.
+template <bool kReach>
 inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& list,
                                      std::size_t begin, std::size_t count, RowWalker& rows,
-                                     ContactChunk& c) {
+                                     ContactChunk& c, double beyond) {
   std::uint32_t starts[RowWalker::kMaxRun];
   std::uint32_t i = rows.mark(begin, count, starts);
   std::size_t m = 0;
   for (std::size_t k = begin; k < begin + count; ++k) {
     i += starts[k - begin];
-    m += pickPair(p, list, i, static_cast<std::uint32_t>(k), c, m);
+    m += pickPair<kReach>(p, list, i, static_cast<std::uint32_t>(k), c, m, beyond);
   }
   rows.reached(i);
   return m;
@@ -69,16 +74,22 @@ inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& li
 
 /// Appends the touching ones among wall w's candidates [begin, begin + count) to the chunk's m
 /// entries (slot: candidate, wall: w); returns the new count. Touching when the overlap
-/// R_i - distance is positive.
+/// R_i - distance is positive (with kReach: above −beyond).
+template <bool kReach>
 inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourList& list,
                                             const Wall& wall, std::size_t w, std::size_t begin,
-                                            std::size_t count, ContactChunk& c, std::size_t m = 0) {
+                                            std::size_t count, ContactChunk& c, std::size_t m,
+                                            double beyond) {
   for (std::size_t k = begin; k < begin + count; ++k) {
     const std::uint32_t i = list.wallParticles[w][k];
     const double distance = (p.position[i] - wall.point).dot(wall.normal);
     c.slot[m] = static_cast<std::uint32_t>(k);
     c.wall[m] = static_cast<std::uint32_t>(w);
-    m += p.radius[i] - distance > 0.0 ? 1 : 0;
+    if constexpr (kReach) {
+      m += p.radius[i] - distance > -beyond ? 1 : 0;
+    } else {
+      m += p.radius[i] - distance > 0.0 ? 1 : 0;
+    }
   }
   return m;
 }

@@ -220,42 +220,66 @@ template <bool kFriction, unsigned kOptional>
 inline constexpr bool kReadsBodies = readsBodiesIn(ContactModel{}, std::bool_constant<kFriction>{},
                                                    std::integral_constant<unsigned, kOptional>{});
 
-template <bool kFriction, unsigned kOptional, class... Terms>
-constexpr std::array<bool, kEnergySlots> includedEnergySlotsIn(TermList<Terms...>) {
-  std::array<bool, kEnergySlots> out{};
+/// A term that acts beyond touch (its `reach`, granular/contact_terms/term.hpp).
+template <class T>
+concept ReachingTerm = requires(const Material& m) {
+  T::reach(m);
+};
+
+template <class... Terms>
+constexpr bool reachingTermsLastIn(TermList<Terms...>) {
+  bool seen = false, last = true;
+  ((last = last && (ReachingTerm<Terms> || !seen), seen = seen || ReachingTerm<Terms>), ...);
+  return last;
+}
+static_assert(reachingTermsLastIn(ContactModel{}),
+              "the terms that act beyond touch are listed after every term that does not: the "
+              "law drops the contact terms' parts on a gap before the reaching terms add theirs");
+
+/// Whether a build includes a term that acts beyond touch: it then takes the pairs and wall
+/// contacts within the reach (ContactConstants::reach), and on a gap drops the parts of the
+/// terms that need contact.
+template <class... Terms, bool kFriction, unsigned kOptional>
+constexpr bool reachesIn(TermList<Terms...>, std::bool_constant<kFriction>,
+                         std::integral_constant<unsigned, kOptional>) {
+  return ((kIncludes<Terms, kFriction, kOptional> && ReachingTerm<Terms>) || ...);
+}
+template <bool kFriction, unsigned kOptional>
+inline constexpr bool kReaches = reachesIn(ContactModel{}, std::bool_constant<kFriction>{},
+                                           std::integral_constant<unsigned, kOptional>{});
+
+/// Per slot of a term's run (energy or history, `sizeOf` slots a term), whether the build
+/// includes the term and, with kContactOnly, whether the term also acts in contact only.
+template <bool kFriction, unsigned kOptional, bool kContactOnly, std::size_t N, class... Terms,
+          class SizeOf>
+constexpr std::array<bool, N> slotsIn(TermList<Terms...>, SizeOf sizeOf) {
+  std::array<bool, N> out{};
   std::size_t at = 0;
   (
       [&] {
-        for (std::size_t k = 0; k < Terms::energy.size(); ++k) {
-          out[at++] = kIncludes<Terms, kFriction, kOptional>;
+        for (std::size_t k = 0; k < sizeOf(std::type_identity<Terms>{}); ++k) {
+          out[at++] =
+              kIncludes<Terms, kFriction, kOptional> && !(kContactOnly && ReachingTerm<Terms>);
         }
       }(),
       ...);
   return out;
 }
+template <bool kFriction, unsigned kOptional, bool kContactOnly>
+inline constexpr auto kEnergySlotsOf = slotsIn<kFriction, kOptional, kContactOnly, kEnergySlots>(
+    ContactModel{}, [](auto t) { return decltype(t)::type::energy.size(); });
+template <bool kFriction, unsigned kOptional, bool kContactOnly>
+inline constexpr auto kHistorySlotsOf = slotsIn<kFriction, kOptional, kContactOnly, kHistorySlots>(
+    ContactModel{}, [](auto t) { return decltype(t)::type::history.size(); });
+
 /// Per energy slot: whether a build includes its term (the slots of the others hold nothing
 /// the pass wrote, and are not summed).
 template <bool kFriction, unsigned kOptional>
-inline constexpr auto kIncludedEnergySlots =
-    includedEnergySlotsIn<kFriction, kOptional>(ContactModel{});
+inline constexpr auto kIncludedEnergySlots = kEnergySlotsOf<kFriction, kOptional, false>;
 
-template <bool kFriction, unsigned kOptional, class... Terms>
-constexpr std::array<bool, kHistorySlots> includedHistorySlotsIn(TermList<Terms...>) {
-  std::array<bool, kHistorySlots> out{};
-  std::size_t at = 0;
-  (
-      [&] {
-        for (std::size_t k = 0; k < Terms::history.size(); ++k) {
-          out[at++] = kIncludes<Terms, kFriction, kOptional>;
-        }
-      }(),
-      ...);
-  return out;
-}
 /// Per history slot: whether a build includes its term (the force pass moves only those).
 template <bool kFriction, unsigned kOptional>
-inline constexpr auto kIncludedHistorySlots =
-    includedHistorySlotsIn<kFriction, kOptional>(ContactModel{});
+inline constexpr auto kIncludedHistorySlots = kHistorySlotsOf<kFriction, kOptional, false>;
 
 /// Doubles in a stored spring record of a frictional build with optional terms kOptional (the
 /// slots of the terms it includes; PairSprings).
@@ -275,12 +299,14 @@ constexpr auto historySlotsByMaskIn(std::integer_sequence<unsigned, kMasks...>) 
 inline constexpr auto kHistorySlotsByMask =
     historySlotsByMaskIn(std::make_integer_sequence<unsigned, (1u << kOptionalTerms)>{});
 
-/// Term T's first and second loop, where it has them and the build includes it.
-template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance>
+/// Term T's first and second loop, where it has them and the build includes it (the first
+/// loop's: of the terms that reach beyond touch, or of the others, by kReaching).
+template <class T, bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance,
+          bool kReaching>
 [[gnu::always_inline]] inline void firstOf(const ContactConstants& k, ContactChunk& c,
                                            std::size_t e, ContactLane& lane) {
   if constexpr (requires { T::template first<kLaw, kAdvance>(k, c, e, lane); }) {
-    if constexpr (kIncludes<T, kFriction, kOptional>) {
+    if constexpr (kIncludes<T, kFriction, kOptional> && ReachingTerm<T> == kReaching) {
       T::template first<kLaw, kAdvance>(k, c, e, lane);
     }
   }
@@ -293,15 +319,48 @@ template <class T, unsigned kOptional, bool kAdvance>
   }
 }
 
+/// On a gap (not `touching`), the energies and history of the terms that need contact are
+/// zero: the contact has opened, and forgets what it held.
+template <bool kFriction, unsigned kOptional>
+[[gnu::always_inline]] inline void dropOnGap(ContactChunk& c, std::size_t e, bool touching) {
+  for (std::size_t k = 0; k < kEnergySlots; ++k) {
+    if (kEnergySlotsOf<kFriction, kOptional, true>[k]) {
+      c.energyRows[k][e] = touching ? c.energyRows[k][e] : 0.0;
+    }
+  }
+  for (std::size_t k = 0; k < kHistorySlots; ++k) {
+    if (kFriction && kHistorySlotsOf<kFriction, kOptional, true>[k]) {
+      c.historyRows[k][e] = touching ? c.historyRows[k][e] : 0.0;
+    }
+  }
+}
+
 /// One contact through every term's first loop: the normal force, and with friction the trial
 /// tangential force. A function of its own, not the loop's body: the lane is then a local of an
 /// inlined call, which the compiler splits into registers, rather than a variable of the simd
 /// loop, which OpenMP would keep as an array of structs per lane and the vectoriser refuse.
+///
+/// In a build with a term that reaches beyond touch, the terms that need contact see h⁺ =
+/// max(h, 0); on a gap their forces and couples are dropped before the reaching terms add
+/// theirs (dropOnGap drops their energies and history after the last loop).
 template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance, class... Terms>
 [[gnu::always_inline]] inline void firstLoopBody(TermList<Terms...>, const ContactConstants& k,
                                                  ContactChunk& c, std::size_t e) {
-  ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
-  (firstOf<Terms, kFriction, kOptional, kLaw, kAdvance>(k, c, e, lane), ...);
+  constexpr bool kReach = kReaches<kFriction, kOptional>;
+  const double h = c.overlap[e];
+  ContactLane lane{
+      kReach ? (h > 0.0 ? h : 0.0) : h, c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
+  (firstOf<Terms, kFriction, kOptional, kLaw, kAdvance, false>(k, c, e, lane), ...);
+  if constexpr (kReach) {
+    const bool touching = h > 0.0;
+    lane.normal = touching ? lane.normal : -0.0;
+    lane.qx = touching ? lane.qx : -0.0;
+    lane.qy = touching ? lane.qy : -0.0;
+    lane.qz = touching ? lane.qz : -0.0;
+    lane.h = h;
+    (firstOf<Terms, kFriction, kOptional, kLaw, kAdvance, true>(k, c, e, lane), ...);
+    if constexpr (!kFriction) dropOnGap<kFriction, kOptional>(c, e, touching);
+  }
   c.fx[e] = -lane.normal * lane.nx;
   c.fy[e] = -lane.normal * lane.ny;
   c.fz[e] = -lane.normal * lane.nz;
@@ -332,6 +391,13 @@ template <unsigned kOptional, bool kAdvance, class... Terms>
   lane.vty = c.vty[e];
   lane.vtz = c.vtz[e];
   (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
+  if constexpr (kReaches<true, kOptional>) {
+    const bool touching = c.overlap[e] > 0.0;
+    lane.tx = touching ? lane.tx : -0.0;
+    lane.ty = touching ? lane.ty : -0.0;
+    lane.tz = touching ? lane.tz : -0.0;
+    dropOnGap<true, kOptional>(c, e, touching);
+  }
   const double fx = c.fx[e] + lane.tx, fy = c.fy[e] + lane.ty, fz = c.fz[e] + lane.tz;
   c.fx[e] = fx;
   c.fy[e] = fy;

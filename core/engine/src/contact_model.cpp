@@ -87,6 +87,9 @@ TermSpec termSpecOf() {
     t.active = [](const Material& m) { return T::active(m); };
   }
   if constexpr (requires { T::mayPull; }) t.mayPull = T::mayPull;
+  if constexpr (requires(const Material& m) { T::reach(m); }) {
+    t.reach = [](const Material& m) { return T::reach(m); };
+  }
   return t;
 }
 
@@ -260,6 +263,15 @@ void validateMaterial(const Material& material, std::span<const ParameterSpec> t
     what += rule.requirement;
     throw ConfigError(what);
   }
+}
+
+double reachBeyondTouch(const Material& material) {
+  double reach = 0.0;
+  for (const TermSpec& t : contactTerms()) {
+    if (t.reach == nullptr || (t.active != nullptr && !t.active(material))) continue;
+    reach = std::max(reach, t.reach(material));
+  }
+  return reach;
 }
 
 RuleProblem materialRuleProblem(const Material& material) {

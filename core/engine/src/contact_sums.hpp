@@ -36,6 +36,28 @@ struct SummedSlots {
   }();
 };
 
+/// Whether the chunk's entry e is a contact: in a build whose terms act beyond touch the chunk
+/// also holds the bodies across a gap within their reach, which are not counted as contacts.
+template <bool kFriction, unsigned kOptional>
+bool touches(const ContactChunk& c, std::size_t e) {
+  if constexpr (kReaches<kFriction, kOptional>) {
+    return c.overlap[e] > 0.0;
+  } else {
+    return true;
+  }
+}
+/// How many of the chunk's first m entries are contacts (touches).
+template <bool kFriction, unsigned kOptional>
+std::size_t contactsIn(const ContactChunk& c, std::size_t m) {
+  if constexpr (kReaches<kFriction, kOptional>) {
+    std::size_t n = 0;
+    for (std::size_t e = 0; e < m; ++e) n += touches<kFriction, kOptional>(c, e) ? 1 : 0;
+    return n;
+  } else {
+    return m;
+  }
+}
+
 /// Adds the powers of the chunk's m contacts to `powers` in contact order (so the sums are the
 /// same for any thread count and any vector width).
 template <bool kFriction, unsigned kOptional>
@@ -143,11 +165,11 @@ struct BlockSums {
 
   void pairs(const ContactChunk& c, std::size_t m) {
     addChunkPowers<kFriction, kOptional>(c, m, powers);
-    powers.particleContacts += m;
+    powers.particleContacts += contactsIn<kFriction, kOptional>(c, m);
   }
   void wallContacts(const ContactChunk& c, std::size_t m, const std::uint32_t*) {
     addChunkPowers<kFriction, kOptional>(c, m, powers);
-    powers.wallContacts += m;
+    powers.wallContacts += contactsIn<kFriction, kOptional>(c, m);
   }
   void wall(std::size_t w, const Vec3& force, double power, std::uint32_t) {
     powers.wallPower += power;
@@ -168,22 +190,26 @@ struct ExactSums {
 
   void pairs(const ContactChunk& c, std::size_t m) {
     energies.add(c, m, powers, owned);
-    std::size_t counted = m;
+    std::size_t counted = m, contacts = contactsIn<kFriction, kOptional>(c, m);
     if (owned != nullptr) {
-      counted = 0;
-      for (std::size_t e = 0; e < m; ++e) counted += owned[c.first[e]];
+      counted = contacts = 0;
+      for (std::size_t e = 0; e < m; ++e) {
+        counted += owned[c.first[e]];
+        contacts += owned[c.first[e]] && touches<kFriction, kOptional>(c, e) ? 1 : 0;
+      }
     }
-    powers.particleContacts += counted;
+    powers.particleContacts += contacts;
     if constexpr (kFriction) powers.tangentialEvaluations += counted;
   }
   void wallContacts(const ContactChunk& c, std::size_t m, const std::uint32_t* who) {
-    std::size_t counted = 0;
+    std::size_t counted = 0, contacts = 0;
     for (std::size_t e = 0; e < m; ++e) {
       if (owned != nullptr && !owned[who[e]]) continue;
       ++counted;
+      contacts += touches<kFriction, kOptional>(c, e) ? 1 : 0;
       energies.holdWallContact(c, e, powers);
     }
-    powers.wallContacts += counted;
+    powers.wallContacts += contacts;
     if constexpr (kFriction) powers.tangentialEvaluations += counted;
   }
   void wall(std::size_t w, const Vec3& force, double power, std::uint32_t particle) {

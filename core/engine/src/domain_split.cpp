@@ -334,6 +334,17 @@ void appendHolders(const DomainMap& domains, const Vec3& x, double halo, std::ve
 
 // ---- 3. The split and the redistribution --------------------------------------------------
 
+namespace {
+
+/// What the contact model's reach beyond touch adds to the halo (a hair over it, as the pairs'
+/// reach): a pull across a gap needs the partner as a ghost too. From the material now, so a
+/// stage that changes the reach has it at the rebuild that follows.
+double reachHalo(const SimulationState& s) {
+  return reachBeyondTouch(s.config.material) * (1.0 + 1e-9);
+}
+
+}  // namespace
+
 void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
                 std::shared_ptr<const Communicator> ranks) {
   require(domains != nullptr && ranks != nullptr, "split: the domains and the ranks must be given");
@@ -351,7 +362,7 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   s.split.halo = (2.0 * rMax + s.neighbours.skin) * (1.0 + 1e-9);
   // The list stands as built: the partners of a particle are within the reach of where it
   // was then, and each has moved less than half the skin since.
-  const double halo = s.split.halo + s.neighbours.skin;
+  const double halo = s.split.halo + reachHalo(s) + s.neighbours.skin;
   const DomainMap& map = *s.split.domains;
   const int me = s.ranks->rank();
   std::vector<std::uint8_t> kept(p.size(), 0);
@@ -388,7 +399,7 @@ void redistribute(SimulationState& s) {
     }
   }
   const DomainMap& domains = *s.split.domains;
-  const double halo = s.split.halo;
+  const double halo = s.split.halo + reachHalo(s);
   const Particles& p = s.particles;
   const std::size_t n = p.size();
   // Per particle held, the ranks that will hold it (appendHolders), in one array:

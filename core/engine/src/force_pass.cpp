@@ -39,6 +39,8 @@ struct CandidateSpan {
 /// the parts need no barrier and never write the same memory.
 template <bool kFriction, NormalLaw kLaw, unsigned kOptional>
 class PlannedPass {
+  static constexpr bool kReach = kReaches<kFriction, kOptional>;
+
  public:
   /// `aside`: this thread's array for the springs of a block set aside (SpringCursor).
   PlannedPass(SimulationState& s, double dt, std::vector<double>* aside)
@@ -96,7 +98,8 @@ class PlannedPass {
         for (std::size_t e = begin; e < begin + count; ++e) {
           const std::uint32_t q = plan_.incoming[e];
           at[m] = q;
-          m += pickPair(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], c, m);
+          m += pickPair<kReach>(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], c, m,
+                                constants_.reach);
         }
         loadPairs<kFriction, kOptional>(p_, c, m, [&](std::size_t e) -> const ContactHistory& {
           return scratch_.crossingSpring[at[e]];
@@ -152,8 +155,8 @@ class PlannedPass {
             spring[m] = holds ? next + read * S : kNoRecord;
             read += holds;
             i += starts[bit];
-            const std::size_t touching =
-                pickPair(p_, list_, i, static_cast<std::uint32_t>(k), c, m);
+            const std::size_t touching = pickPair<kReach>(
+                p_, list_, i, static_cast<std::uint32_t>(k), c, m, constants_.reach);
             heldNow |= std::uint64_t{touching} << bit;
             m += touching;
           }
@@ -163,7 +166,7 @@ class PlannedPass {
           loadPairs<kFriction, kOptional>(
               p_, c, m, [&](std::size_t e) -> const double* { return spring[e]; });
         } else {
-          m = pickTouchingPairs(p_, list_, begin, count, rows, c);
+          m = pickTouchingPairs<kReach>(p_, list_, begin, count, rows, c, constants_.reach);
           loadPairs<kFriction, kOptional>(
               p_, c, m, [](std::size_t) -> const ContactHistory& { return kNoSpring; });
         }
@@ -231,7 +234,8 @@ class PlannedPass {
       const std::size_t end = plan_.blockWall[(b + 1) * walls_ + w];
       for (std::size_t k = plan_.blockWall[b * walls_ + w]; k < end;) {
         const std::size_t count = std::min(kChunk - m, end - k);
-        m = pickTouchingWallContacts(p_, list_, s_.walls[w], w, k, count, chunk, m);
+        m = pickTouchingWallContacts<kReach>(p_, list_, s_.walls[w], w, k, count, chunk, m,
+                                             constants_.reach);
         spans_.push_back({static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(k),
                           static_cast<std::uint32_t>(k + count)});
         k += count;
@@ -244,8 +248,10 @@ class PlannedPass {
     if (!spans_.empty()) wallChunk(chunk, m, sums);
   }
 
+  /// Flattened: the scatter's small vector sums stay inline whatever else the file instantiates
+  /// (a build per mask of optional terms).
   template <class Sums>
-  void wallChunk(ContactChunk& chunk, std::size_t m, Sums& sums) {
+  [[gnu::flatten]] void wallChunk(ContactChunk& chunk, std::size_t m, Sums& sums) {
     auto gather = [&](ContactChunk& c) {
       loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, c, m);
       return m;

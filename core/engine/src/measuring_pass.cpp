@@ -13,6 +13,7 @@ namespace {
 /// by default the other is a particle).
 template <bool kFriction, NormalLaw kLaw, unsigned kOptional, class Visitor>
 void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visitor&& visit) {
+  constexpr bool kReach = kReaches<kFriction, kOptional>;
   const SimulationState& s = state;
   const ContactConstants constants(s.config.material, s.config.timeStep);
   const Particles& p = s.particles;
@@ -26,7 +27,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
   for (std::size_t begin = 0; begin < pairs; begin += kChunk) {
     const std::size_t count = std::min(kChunk, pairs - begin);
     auto gather = [&](ContactChunk& c) {
-      const std::size_t m = pickTouchingPairs(p, list, begin, count, rows, c);
+      const std::size_t m =
+          pickTouchingPairs<kReach>(p, list, begin, count, rows, c, constants.reach);
       loadPairs<kFriction, kOptional>(
           p, c, m, [&](std::size_t e) -> ContactHistory { return springs->at(c.slot[e]); });
       return m;
@@ -49,7 +51,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
       auto gather = [&](ContactChunk& c) {
-        const std::size_t m = pickTouchingWallContacts(p, list, s.walls[w], w, begin, count, c);
+        const std::size_t m = pickTouchingWallContacts<kReach>(p, list, s.walls[w], w, begin, count,
+                                                               c, 0, constants.reach);
         loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
         return m;
       };

@@ -89,11 +89,11 @@ CellGrid binParticles(const Particles& p, double reach) {
   return grid;
 }
 
-/// Writes the partners j > i of particle i, those within R_i + R_j + skin, to found[0, count) in
-/// ascending order (growing `found` as needed) and returns their count. The 3 × 3 × 3 cells
-/// around i are read as nine rows of three cells, each a contiguous range of the grid's items;
-/// the test appends every particle and keeps it by advancing the count, so that the loop does
-/// not branch on the ≈ 1 in 14 that are kept.
+/// Writes the partners j > i of particle i, those within R_i + R_j + skin (the margin over touch),
+/// to found[0, count) in ascending order (growing `found` as needed) and returns their count. The 3
+/// × 3 × 3 cells around i are read as nine rows of three cells, each a contiguous range of the
+/// grid's items; the test appends every particle and keeps it by advancing the count, so that the
+/// loop does not branch on the ≈ 1 in 14 that are kept.
 std::size_t partnersOf(const CellGrid& grid, const Particles& p, double skin, std::size_t i,
                        std::vector<std::uint32_t>& found) {
   const Vec3& xi = p.position[i];
@@ -198,10 +198,11 @@ std::vector<std::uint32_t> firstOfPairs(const NeighbourList& list) {
 // ---- Rebuild ------------------------------------------------------------------------------
 
 void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::vector<Wall>& walls,
-                          bool keepHistory, int threads) {
+                          bool keepHistory, double beyond, int threads) {
   const std::size_t n = p.size();
   const double rMax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
-  const double skin = list.skin;
+  // The margin over touch: the skin, and the contact model's reach beyond touch.
+  const double skin = list.skin + beyond;
 
   // Two passes over the same search, count then fill, so the list is allocated once at its
   // exact size (no per-thread buffers growing by doubling: at 10⁶ particles those transients
@@ -244,7 +245,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
     }
   }
 
-  // Wall candidates: particles whose surface is within the skin of the plane (or beyond it).
+  // Wall candidates: particles whose surface is within the margin of the plane (or beyond it).
   std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (std::size_t i = 0; i < n; ++i) {

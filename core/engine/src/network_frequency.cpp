@@ -193,6 +193,9 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   visitContacts(
       s,
       [&](const ContactView& c) {
+        // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is a
+        // candidate below, about to touch if it approaches.
+        if (c.overlap < 0.0) return;
         const std::size_t i = c.particle;
         if (c.isWall()) {
           const double u = (p.velocity[i] - s.walls[c.wall()].velocity).dot(c.normal);

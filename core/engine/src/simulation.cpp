@@ -26,7 +26,8 @@ namespace granular {
 
 void rebuildList(SimulationState& s) {
   s.partition->beforeRebuild(s);
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, passThreads(s));
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional,
+                       reachBeyondTouch(s.config.material), passThreads(s));
   s.partition->afterRebuild(s);
   ++s.counters.rebuilds;
 }
@@ -75,7 +76,8 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
     s.particles.angularVelocity.assign(n, Vec3::Zero());
   }
 
-  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional, s.config.threads);
+  rebuildNeighbourList(s.neighbours, s.particles, s.walls, s.frictional,
+                       reachBeyondTouch(s.config.material), s.config.threads);
   ++s.counters.rebuilds;
   startLedger(s);  // the initial forces too; dt = 0 leaves the springs as they are
   startAccelerations(s);

@@ -93,6 +93,7 @@ void Simulation::setMaterial(const Material& material) {
     }
   }
   // Accepted: nothing above has changed the state.
+  const double reachBefore = reachBeyondTouch(s.config.material);
   s.config.material = material;
   s.contactScale = scale;
   const std::size_t n = p.size();
@@ -117,6 +118,8 @@ void Simulation::setMaterial(const Material& material) {
     list.wallParticles.clear();
     list.wallHistory.clear();
     rebuildList(s);
+  } else if (reachBeyondTouch(material) != reachBefore) {
+    rebuildList(s);  // the pairs within the new reach
   }
   // The accelerations under the new law, as a new simulation starts (springs kept: dt = 0).
   computeContactForces(s, 0.0);

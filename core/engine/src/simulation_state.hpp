@@ -124,11 +124,13 @@ class RowWalker {
 /// Sets the list's reference positions to `position` rounded to single precision, and their
 /// rounding bound referenceRounding.
 void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& position);
-/// Builds the list for the current positions, carrying tangential history of surviving pairs.
-/// The candidate search runs on `threads` threads (0: OpenMP's default); the list is the same
-/// for any count.
+/// Builds the list for the current positions, carrying tangential history of surviving pairs:
+/// the pairs within R_i + R_j + beyond + skin, the wall candidates within R_i + beyond + skin
+/// (beyond: how far beyond touch the contact model acts, reachBeyondTouch). The candidate
+/// search runs on `threads` threads (0: OpenMP's default); the list is the same for any count.
 void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
-                          const std::vector<Wall>& walls, bool keepHistory, int threads = 1);
+                          const std::vector<Wall>& walls, bool keepHistory, double beyond,
+                          int threads = 1);
 /// True when some pair within the list's reach may have come into contact unseen, given the
 /// largest squared displacement of a particle since the build [m²] (largestMove2).
 bool neighbourListStale(const NeighbourList& list, const Particles& particles,

@@ -146,6 +146,9 @@ struct TermSpec {
   bool (*active)(const Material&) = nullptr;
   /// Its normal force may be attractive (it then acts after the normal dashpot's no-pull floor).
   bool mayPull = false;
+  /// How far beyond touch it acts for a material [m] (its `reach`); nullptr: it acts in contact
+  /// only.
+  double (*reach)(const Material&) = nullptr;
 };
 
 /// An energy account with its slot (the force pass's index for it) and term.
@@ -172,6 +175,10 @@ std::span<const TermSpec> contactTerms();
 /// The parameter with this key, or nullptr.
 const ParameterSpec* findParameter(std::string_view key,
                                    std::span<const ParameterSpec> table = materialParameters());
+
+/// How far beyond touch the contact model acts for this material [m]: the largest reach of the
+/// terms it uses (a liquid bridge's rupture distance), 0 when every force needs contact.
+double reachBeyondTouch(const Material& material);
 
 /// The first broken rule between parameters (a term's `rule`, e.g. the constant tangential law
 /// needs its k_t), or an empty key when every rule holds.

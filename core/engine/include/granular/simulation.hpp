@@ -199,7 +199,8 @@ struct ContactView {
   Vec3 point;          ///< contact point C_ij [m]
   Vec3 force;          ///< F_ij, force on i [N]
   Vec3 normal;         ///< unit normal from i towards j, or out of i into the wall [-]
-  double overlap = 0;  ///< h > 0 [m]
+  double overlap = 0;  ///< h > 0 [m]; negative: a gap a term acting beyond touch spans (a
+                       ///< liquid bridge), the point then midway across it
 
   bool isWall() const { return otherKind == Other::Wall; }
   /// j, for a contact with a particle (!isWall()).

@@ -35,7 +35,13 @@
 ///     `readsBodies`: it reads the bodies' own radii, masses and spins (the chunk's raw rows;
 ///     a wall is a body of infinite radius and mass without spin);
 ///   - optionally `mayPull`: its normal force may be attractive. It is listed after the normal
-///     dashpot, whose no-pull floor holds for the contact's own repulsion only.
+///     dashpot, whose no-pull floor holds for the contact's own repulsion only;
+///   - optionally `reach(const Parameters&)`: how far beyond touch it acts [m] (a term without
+///     it acts while the bodies touch, reach 0). The bodies then interact from the gap
+///     −h = reach on: the neighbour list, the walls' candidates and a split run's ghosts reach
+///     that far. On a gap (h < 0) the terms that do not reach see h = 0, and their forces,
+///     couples, energies and history are dropped; a term that reaches sees the true h. Terms
+///     that reach are listed after every term that does not.
 /// Everything that lists material parameters (the scene loader, the one validation, the state
 /// checks, the checkpoint, the scene fingerprint, the GUI, the docs test) reads these
 /// declarations through granular/contact_model.hpp.
@@ -56,7 +62,8 @@ namespace granular {
 /// The sums start at −0, the identity of IEEE addition (−0 + x is x for every x, ±0 included):
 /// the first term's part is then the sum itself, bit for bit.
 struct ContactLane {
-  double h, nx, ny, nz;  ///< overlap [m] (negative: a gap), unit normal from i to the other body
+  double h, nx, ny, nz;  ///< overlap [m] (negative: a gap, seen by a term that reaches only),
+                         ///< unit normal from i to the other body
   double radius, mass;   ///< R_ij [m], m_ij [kg]
   double elastic = 0;    ///< the normal elastic force F_e [N]
   double normal = -0.0;  ///< the normal force F_n, summed [N] (the force on i: −F_n n + F_t)
