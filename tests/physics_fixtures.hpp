@@ -1,5 +1,6 @@
 #pragma once
 /// Small scenes for the physics tests: binary impacts and their measurement.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -74,6 +75,27 @@ inline Simulation fallingGrid(int nx, int ny, int nz, const SimulationConfig& cf
       {"bottom", Vec3(0, 0, 0), Vec3(0, 0, 1)},
   };
   return Simulation(std::move(p), std::move(walls), cfg);
+}
+
+/// A bed at rest: after `settle` seconds, over the next `watch`, the largest kinetic energy
+/// and the largest move of the ledger's total, each as a fraction of gravity's work so far.
+struct RestingBed {
+  EnergyBalance settled;
+  double kinetic = 0, moved = 0;  ///< [-] of |gravity's work|
+};
+inline RestingBed watchAtRest(Simulation& sim, double settle, double watch) {
+  while (sim.time() < settle) sim.step();
+  RestingBed bed{sim.energy()};
+  while (sim.time() < settle + watch) {
+    sim.step();
+    const EnergyBalance e = sim.energy();
+    bed.kinetic = std::max(bed.kinetic, e.kineticTranslational + e.kineticRotational);
+    bed.moved = std::max(bed.moved, std::abs(e.total() - bed.settled.total()));
+  }
+  const double scale = std::abs(bed.settled.gravityWork);
+  bed.kinetic /= scale;
+  bed.moved /= scale;
+  return bed;
 }
 
 }  // namespace granular::testing

@@ -70,6 +70,12 @@ std::string ruleContext(const ParameterSpec& p) {
   if (p.key == "rolling_stiffness" || p.key == "rolling_damping") {
     return "friction = 0.5\nrolling_friction = 0.2\n";
   }
+  // A liquid bridge needs its liquid, and its shape needs the bridge.
+  if (p.key == "surface_tension") return "friction = 0.5\nbridge_volume = 1e-9\n";
+  if (p.key == "bridge_volume") return "friction = 0.5\nsurface_tension = 0.07\n";
+  if (p.key == "contact_angle") {
+    return "friction = 0.5\nsurface_tension = 0.07\nbridge_volume = 1e-9\n";
+  }
   return "friction = 0.5\n";
 }
 
@@ -253,8 +259,13 @@ TEST(ContactModel, TheFingerprintChangesWithEveryDeclaredParameter) {
     const std::string text =
         p.kind == ParameterKind::Number ? std::string(number) : p.valueText(otherValue(p));
     const std::string keys = ruleContext(p);
+    // A liquid bridge's surface tension and volume each need the other: the key's other value
+    // then stands beside the context.
+    std::string base = keys;
+    if (p.key == "surface_tension") base += "surface_tension = 0.5\n";
+    if (p.key == "bridge_volume") base += "bridge_volume = 2e-9\n";
     EXPECT_NE(materialPart("[material]\n" + keys + std::string(p.key) + " = " + text + "\n"),
-              materialPart("[material]\n" + keys));
+              materialPart("[material]\n" + base));
   }
   std::filesystem::remove_all(dir);
 }

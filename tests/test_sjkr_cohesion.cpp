@@ -209,19 +209,10 @@ TEST(SjkrCohesion, ACohesiveBedAtRestKeepsItsEnergy) {
   cfg.impactSpeed = 3.0;
   cfg.timeStep = stiffestContact(cfg.material, 0.03, cfg.impactSpeed).duration / 50.0;
   Simulation sim = granular::testing::fallingGrid(3, 3, 3, cfg, 0.3);
-  while (sim.time() < 3.0) sim.step();
-  const EnergyBalance settled = sim.energy();
-  ASSERT_LT(settled.of("cohesion_J"), 0.0);
-  double kinetic = 0, moved = 0;
-  while (sim.time() < 3.5) {
-    sim.step();
-    const EnergyBalance e = sim.energy();
-    kinetic = std::max(kinetic, e.kineticTranslational + e.kineticRotational);
-    moved = std::max(moved, std::abs(e.total() - settled.total()));
-  }
-  const double scale = std::abs(settled.gravityWork);
-  EXPECT_LT(kinetic, 1e-6 * scale);
-  EXPECT_LT(moved, 1e-6 * scale);
+  const granular::testing::RestingBed bed = granular::testing::watchAtRest(sim, 3.0, 0.5);
+  ASSERT_LT(bed.settled.of("cohesion_J"), 0.0);
+  EXPECT_LT(bed.kinetic, 1e-6);
+  EXPECT_LT(bed.moved, 1e-6);
 }
 
 TEST(SjkrCohesion, ACheckpointCarriesTheCohesionAndItsAccountBitForBit) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "granular/contact_terms/body.hpp"
+#include "granular/contact_terms/liquid_bridge.hpp"
 #include "granular/contact_terms/normal_damping.hpp"
 #include "granular/contact_terms/normal_elastic.hpp"
 #include "granular/contact_terms/rolling_resistance.hpp"
@@ -27,7 +28,7 @@ struct TermList {};
 
 /// The terms, in the order they act on a contact (the bodies' own material first).
 using ContactModel = TermList<Body, NormalElastic, NormalDamping, TangentialSpring,
-                              TangentialDamping, RollingResistance, SjkrCohesion>;
+                              TangentialDamping, RollingResistance, SjkrCohesion, LiquidBridge>;
 
 /// A struct holding every term's Parameters (Material derives from it).
 template <class List>
