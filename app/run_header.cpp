@@ -127,6 +127,7 @@ void printSavedStateStart(std::ostream& out, const Scene& scene, const Simulatio
   double largest = 0.0, relative = 0.0;  // the largest overlap [m] and over its radius [-]
   sim.forEachContact([&](const ContactView& c) {
     if (!c.isWall() && c.otherParticle() < c.particle) return;  // each pair once
+    if (!c.touching()) return;                                  // a liquid bridge across a gap
     (c.isWall() ? walls : pairs) += 1;
     double radius = sim.particles().radius[c.particle];
     if (!c.isWall()) radius = std::min(radius, sim.particles().radius[c.otherParticle()]);

@@ -384,7 +384,7 @@ std::vector<Wall> heapWalls(Method method, int sides) {
 std::vector<char> touchesAnother(const Simulation& sim) {
   std::vector<char> touching(sim.particles().size(), 0);
   sim.forEachContact([&touching](const ContactView& c) {
-    if (!c.isWall()) touching[c.particle] = 1;
+    if (!c.isWall() && c.touching()) touching[c.particle] = 1;
   });
   return touching;
 }

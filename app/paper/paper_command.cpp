@@ -192,6 +192,7 @@ BedContacts bedContacts(const Simulation& sim) {
   std::size_t side = 0;
   sim.forEachContact([&](const ContactView& v) {
     if (!v.isWall() && v.otherParticle() < v.particle) return;
+    if (!v.touching()) return;
     const double ri = p.radius[v.particle];
     const double rj = v.isWall() ? 0.0 : p.radius[v.otherParticle()];
     radius += v.isWall() ? ri : ri * rj / (ri + rj);

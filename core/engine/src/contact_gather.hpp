@@ -54,7 +54,8 @@ template <bool kReach>
   return d.squaredNorm() < reach * reach ? 1 : 0;
 }
 
-/// Picks the touching pairs among the candidates [begin, begin + count) into the chunk (slot,
+/// Picks the touching pairs (kReach: within `beyond` of touching) among the candidates
+/// [begin, begin + count) into the chunk (slot,
 /// particles, offset and radii; loadPairs adds the rest); returns how many. Branch-free; `rows`
 /// walks the list's rows, its next run starting at `begin`.
 template <bool kReach>
@@ -72,7 +73,8 @@ inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& li
   return m;
 }
 
-/// Appends the touching ones among wall w's candidates [begin, begin + count) to the chunk's m
+/// Appends the touching ones (kReach: within `beyond`) among wall w's candidates
+/// [begin, begin + count) to the chunk's m
 /// entries (slot: candidate, wall: w); returns the new count. Touching when the overlap
 /// R_i - distance is positive (with kReach: above −beyond).
 template <bool kReach>

@@ -6,7 +6,8 @@
 /// radius and mass, the spring's rotation, k_t ∝ √(R h), the Coulomb scaling) with
 /// data-dependent branches (sliding or sticking, a spring or none). One contact at a time, the
 /// CPU waits on those latencies and mispredicts the branches. Here the force pass copies the
-/// touching contacts of a chunk of candidates into arrays (`ContactChunk`), and two branch-free
+/// interacting contacts of a chunk of candidates (touching, or within a term's reach beyond
+/// touch) into arrays (`ContactChunk`), and two branch-free
 /// loops over the arrays compute the geometry and the law for several contacts per instruction
 /// (2 with SSE2, 4 with AVX2). Every operation is
 /// an IEEE operation on one lane (no reductions inside the loops, no fused multiply-add:
@@ -67,7 +68,8 @@ struct ContactChunk {
   alignas(64) double dx[kChunk], dy[kChunk], dz[kChunk];
   alignas(64) double ri[kChunk], rj[kChunk], mi[kChunk], mj[kChunk];
   alignas(64) double wix[kChunk], wiy[kChunk], wiz[kChunk], wjx[kChunk], wjy[kChunk], wjz[kChunk];
-  // Geometry (contactLaw's input); every contact in a chunk touches.
+  // Geometry (contactLaw's input); every contact in a chunk touches, or in a build with a term
+  // that reaches beyond touch is within its reach.
   alignas(64) double nx[kChunk], ny[kChunk], nz[kChunk];  ///< unit normal from i to the other
   alignas(64) double overlap[kChunk];                     ///< h [m]
   alignas(64) double armI[kChunk];                        ///< lever arm R_i - h/2 [m]
@@ -109,7 +111,7 @@ struct ContactChunk {
   }
 };
 
-/// Pair geometry from the raw columns dx..mj of touching pairs (and the angular velocities with
+/// Pair geometry from the raw columns dx..mj of the picked pairs (and the angular velocities with
 /// friction; v is already v_i - v_j): n, h, lever arm, R_ij, m_ij, contact-point velocity.
 /// Coincident centres have no direction: +z is used, so the particles are pushed apart along a
 /// defined axis instead of producing NaN.
@@ -232,6 +234,19 @@ constexpr bool reachingTermsLastIn(TermList<Terms...>) {
   ((last = last && (ReachingTerm<Terms> || !seen), seen = seen || ReachingTerm<Terms>), ...);
   return last;
 }
+/// The force pass carries history and runs the second loop in frictional builds only: a term
+/// with history or a second loop acts with friction only (needsFriction).
+template <class... Terms>
+constexpr bool historyNeedsFrictionIn(TermList<Terms...>) {
+  return ((Terms::needsFriction ||
+           (Terms::history.empty() &&
+            !requires { &Terms::template second<true, ContactConstants, ContactChunk>; })) &&
+          ...);
+}
+static_assert(historyNeedsFrictionIn(ContactModel{}),
+              "a term with history or a second loop must need friction (the frictionless "
+              "builds carry no history and run the first loop only)");
+
 static_assert(reachingTermsLastIn(ContactModel{}),
               "the terms that act beyond touch are listed after every term that does not: the "
               "law drops the contact terms' parts on a gap before the reaching terms add theirs");
@@ -323,8 +338,9 @@ template <class T, unsigned kOptional, bool kAdvance>
 /// zero: the contact has opened, and forgets what it held.
 template <bool kFriction, unsigned kOptional>
 [[gnu::always_inline]] inline void dropOnGap(ContactChunk& c, std::size_t e, bool touching) {
-  for (std::size_t k = 0; k < kEnergySlots; ++k) {
-    if (kEnergySlotsOf<kFriction, kOptional, true>[k]) {
+  for (std::size_t k = 0; k < kEnergySlots; ++k) {  // a Slip account has no per-contact value
+    if (kEnergySlotsOf<kFriction, kOptional, true>[k] &&
+        kEnergySlotTable[k].kind != EnergyKind::Slip) {
       c.energyRows[k][e] = touching ? c.energyRows[k][e] : 0.0;
     }
   }
@@ -383,7 +399,13 @@ template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance, cla
 template <unsigned kOptional, bool kAdvance, class... Terms>
 [[gnu::always_inline]] inline void secondLoopBody(TermList<Terms...>, const ContactConstants& k,
                                                   ContactChunk& c, std::size_t e) {
-  ContactLane lane{c.overlap[e], c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
+  const double h = c.overlap[e];  // h⁺ in a build that reaches beyond touch, as in the first
+  ContactLane lane{kReaches<true, kOptional> ? (h > 0.0 ? h : 0.0) : h,
+                   c.nx[e],
+                   c.ny[e],
+                   c.nz[e],
+                   c.radius[e],
+                   c.mass[e]};
   lane.tx = c.tx[e];
   lane.ty = c.ty[e];
   lane.tz = c.tz[e];
@@ -392,7 +414,7 @@ template <unsigned kOptional, bool kAdvance, class... Terms>
   lane.vtz = c.vtz[e];
   (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
   if constexpr (kReaches<true, kOptional>) {
-    const bool touching = c.overlap[e] > 0.0;
+    const bool touching = h > 0.0;
     lane.tx = touching ? lane.tx : -0.0;
     lane.ty = touching ? lane.ty : -0.0;
     lane.tz = touching ? lane.tz : -0.0;

@@ -248,7 +248,6 @@ struct ExactSums {
   Push pushes[kHeld];
 };
 
-/// The advanced history of the chunk's entry e as a stored record.
 /// The blocks' sums, in block order, into the state's powers and the walls' reactions (BlockSums).
 void finishBlockSums(SimulationState& s, std::size_t blocks, std::size_t walls);
 /// The parts' exact sums, merged (in any order: the same bits, over the ranks too) and rounded

@@ -337,8 +337,8 @@ void appendHolders(const DomainMap& domains, const Vec3& x, double halo, std::ve
 namespace {
 
 /// What the contact model's reach beyond touch adds to the halo (a hair over it, as the pairs'
-/// reach): a pull across a gap needs the partner as a ghost too. From the material now, so a
-/// stage that changes the reach has it at the rebuild that follows.
+/// distance): a pull across a gap needs the partner as a ghost too. Read from the material at
+/// each use, so a stage that changes the reach has it at the rebuild that follows.
 double reachHalo(const SimulationState& s) {
   return reachBeyondTouch(s.config.material) * (1.0 + 1e-9);
 }
@@ -358,7 +358,8 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   s.ranks = std::move(ranks);
   const Particles& p = s.particles;
   const double rMax = *std::max_element(p.radius.begin(), p.radius.end());
-  // A hair over the reach, for the rounding of the brick's cut planes against x ± halo.
+  // A hair over the pairs' largest distance, 2 R_max + skin, for the rounding of the brick's cut
+  // planes against x ± halo.
   s.split.halo = (2.0 * rMax + s.neighbours.skin) * (1.0 + 1e-9);
   // The list stands as built: the partners of a particle are within the reach of where it
   // was then, and each has moved less than half the skin since.

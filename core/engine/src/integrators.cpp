@@ -170,7 +170,7 @@ FlatMotion FlatMotion::of(std::vector<Vec3>* x, std::vector<Vec3>& v, Derivative
 
 namespace {
 
-// The range loops in two builds, as the force kernels (force_pass.hpp): the baseline x86-64
+// The range loops in two builds, as the law's kernels (chunk_kernels.cpp): the baseline x86-64
 // one and AVX2, chosen by simdBuild() (granular/simd_build.hpp). Both give the same bits (every
 // value is computed alone, no fused multiply-add; the probe is a sum of zeros or NaN).
 

@@ -89,12 +89,12 @@ CellGrid binParticles(const Particles& p, double reach) {
   return grid;
 }
 
-/// Writes the partners j > i of particle i, those within R_i + R_j + skin (the margin over touch),
-/// to found[0, count) in ascending order (growing `found` as needed) and returns their count. The 3
-/// × 3 × 3 cells around i are read as nine rows of three cells, each a contiguous range of the
-/// grid's items; the test appends every particle and keeps it by advancing the count, so that the
-/// loop does not branch on the ≈ 1 in 14 that are kept.
-std::size_t partnersOf(const CellGrid& grid, const Particles& p, double skin, std::size_t i,
+/// Writes the partners j > i of particle i, those within R_i + R_j + margin (the skin and any reach
+/// beyond touch), to found[0, count) in ascending order (growing `found` as needed) and returns
+/// their count. The 3 × 3 × 3 cells around i are read as nine rows of three cells, each a
+/// contiguous range of the grid's items; the test appends every particle and keeps it by advancing
+/// the count, so that the loop does not branch on the ≈ 1 in 14 that are kept.
+std::size_t partnersOf(const CellGrid& grid, const Particles& p, double margin, std::size_t i,
                        std::vector<std::uint32_t>& found) {
   const Vec3& xi = p.position[i];
   const double ri = p.radius[i];
@@ -110,7 +110,7 @@ std::size_t partnersOf(const CellGrid& grid, const Particles& p, double skin, st
       std::uint32_t* out = found.data();
       for (std::uint32_t k = begin; k < end; ++k) {
         const std::uint32_t j = grid.items[k];
-        const double reach = ri + p.radius[j] + skin;
+        const double reach = ri + p.radius[j] + margin;
         const bool near = (p.position[j] - xi).squaredNorm() < reach * reach;
         out[count] = j;
         count += static_cast<std::size_t>(near & (j > i));
@@ -202,7 +202,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   const std::size_t n = p.size();
   const double rMax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
   // The margin over touch: the skin, and the contact model's reach beyond touch.
-  const double skin = list.skin + beyond;
+  const double margin = list.skin + beyond;
 
   // Two passes over the same search, count then fill, so the list is allocated once at its
   // exact size (no per-thread buffers growing by doubling: at 10⁶ particles those transients
@@ -210,7 +210,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   // prefix sums, sorted by j, so the list is the same for any thread count.
   std::vector<std::uint32_t> rowStart(n + 1, 0), second;
   if (n > 1) {
-    const CellGrid grid = binParticles(p, 2.0 * rMax + skin);
+    const CellGrid grid = binParticles(p, 2.0 * rMax + margin);
     const int teams = threads > 0 ? threads : omp_get_max_threads();
     if (teams == 1 && !list.second.empty()) {
       // One search, appending into the old list's size + 1/8: the array grows by doubling (a
@@ -219,7 +219,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       second.reserve(list.second.size() + list.second.size() / 8 + 16);
       std::vector<std::uint32_t> found;
       for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t count = partnersOf(grid, p, skin, i, found);
+        const std::size_t count = partnersOf(grid, p, margin, i, found);
         second.insert(second.end(), found.begin(), found.begin() + std::ptrdiff_t(count));
         rowStart[i + 1] = static_cast<std::uint32_t>(second.size());
       }
@@ -229,7 +229,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
         std::vector<std::uint32_t> found;
 #pragma omp for schedule(static)
         for (std::size_t i = 0; i < n; ++i) {
-          rowStart[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, skin, i, found));
+          rowStart[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, margin, i, found));
         }
 #pragma omp single
         {
@@ -238,7 +238,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
         }
 #pragma omp for schedule(static)
         for (std::size_t i = 0; i < n; ++i) {
-          const std::size_t count = partnersOf(grid, p, skin, i, found);
+          const std::size_t count = partnersOf(grid, p, margin, i, found);
           std::copy_n(found.begin(), count, second.begin() + rowStart[i]);
         }
       }
@@ -250,7 +250,8 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (std::size_t i = 0; i < n; ++i) {
       const double distance = (p.position[i] - walls[w].point).dot(walls[w].normal);
-      if (distance < p.radius[i] + skin) wallParticles[w].push_back(static_cast<std::uint32_t>(i));
+      if (distance < p.radius[i] + margin)
+        wallParticles[w].push_back(static_cast<std::uint32_t>(i));
     }
   }
 

@@ -1,8 +1,8 @@
 #pragma once
 /// Finding, laying out and carrying the springs of the touching pairs (PairSprings in
-/// simulation_state.hpp): springs are stored only for pairs that touched at the last force
-/// pass, each particle block's in its own array in ascending pair order, and a bit per pair
-/// says which pairs hold one.
+/// simulation_state.hpp): springs are stored only for pairs that touched (or were within a
+/// reaching term's reach) at the last force pass, each particle block's in its own array in
+/// ascending pair order, and a bit per pair says which pairs hold one.
 #include <bit>
 #include <cstdint>
 #include <vector>

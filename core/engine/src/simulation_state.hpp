@@ -22,7 +22,8 @@ namespace granular {
 
 // ---- 1. Contact history -------------------------------------------------------------------
 
-/// Tangential springs of the candidate pairs that touched at the last force pass, and of no
+/// Tangential springs of the candidate pairs that touched at the last force pass (with a term
+/// that reaches beyond touch: that were within its reach, a zero spring across a gap), and of no
 /// others. A candidate list holds about 5 pairs a particle of which 2-3 touch in a dense bed: a
 /// spring per candidate (32 B) was the largest array of a frictional bed, and a stretch that is
 /// not held is simply zero. The springs of a particle block (NeighbourList::blockParticle) lie

@@ -203,6 +203,8 @@ struct ContactView {
                        ///< liquid bridge), the point then midway across it
 
   bool isWall() const { return otherKind == Other::Wall; }
+  /// The bodies touch (h > 0); false for a gap that a term acting beyond touch spans.
+  bool touching() const { return overlap > 0.0; }
   /// j, for a contact with a particle (!isWall()).
   std::size_t otherParticle() const { return otherIndex; }
   /// The wall's index in Simulation::walls(), for a contact with a wall (isWall()).
@@ -313,8 +315,10 @@ class Simulation {
   /// Acceleration of particle i at the current state (forces / m + g) [m/s²].
   Vec3 acceleration(std::size_t i) const;
 
-  /// Calls `visit` for every contact with overlap > 0 at the current state, once from each side
-  /// of a particle pair and once for each particle-wall contact.
+  /// Calls `visit` for every contact at the current state (overlap > 0), once from each side of
+  /// a particle pair and once for each particle-wall contact; with a term that acts beyond touch
+  /// (a liquid bridge) also for each gap it spans (overlap <= 0: ContactView::touching() is
+  /// false).
   void forEachContact(const std::function<void(const ContactView&)>& visit) const;
   /// Σ_j F_ij per particle (contact forces only, walls included) from the same evaluation as
   /// forEachContact [N].

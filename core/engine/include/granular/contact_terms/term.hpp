@@ -8,7 +8,9 @@
 ///     field: scene key, symbol, unit, allowed range, one-line doc;
 ///   - `history`: the names of its per-contact history slots, one double each (none for a
 ///     memoryless term); the model's ContactHistory holds every term's slots, and a term with
-///     slots also gives `historyProblem(const double* slot)`, the state checks' rule for them;
+///     slots also gives `historyProblem(const double* slot)`, the state checks' rule for them.
+///     Only frictional builds carry history and run the second loop: a term with either needs
+///     friction (a compile-time check in contact_law.hpp);
 ///   - `energy`: its energy accounts (EnergyTerm; the ledger's columns), and `needsFriction`:
 ///     whether it acts only where friction is on (its accounts and history are then left out
 ///     of a frictionless scene's pass);
