@@ -12,7 +12,7 @@ SimdBuild& selected() {
 }  // namespace
 
 bool cpuHasAvx2() {
-#if defined(__x86_64__)
+#if GRANULAR_AVX2_BUILD
   return __builtin_cpu_supports("avx2");
 #else
   return false;
