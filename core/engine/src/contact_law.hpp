@@ -199,28 +199,31 @@ inline unsigned optionalMask(const Material& m) {
   return optionalMaskIn(ContactModel{}, m);
 }
 
+/// Whether a build (friction, optional terms) includes a term for which `has` is true.
+template <bool kFriction, unsigned kOptional, class... Terms, class Has>
+constexpr bool includesAnyIn(TermList<Terms...>, Has has) {
+  return ((kIncludes<Terms, kFriction, kOptional> && has(std::type_identity<Terms>{})) || ...);
+}
+
 /// Whether a build includes a term that puts a pure torque on the bodies (rolling resistance:
 /// +q on i, −q on the other), which the force pass then adds beside the forces' moments.
-template <class... Terms, bool kFriction, unsigned kOptional>
-constexpr bool pureTorqueIn(TermList<Terms...>, std::bool_constant<kFriction>,
-                            std::integral_constant<unsigned, kOptional>) {
-  return ((kIncludes<Terms, kFriction, kOptional> && requires { Terms::pureTorque; }) || ...);
-}
 template <bool kFriction, unsigned kOptional>
-inline constexpr bool kPureTorque = pureTorqueIn(ContactModel{}, std::bool_constant<kFriction>{},
-                                                 std::integral_constant<unsigned, kOptional>{});
+inline constexpr bool kPureTorque = includesAnyIn<kFriction, kOptional>(ContactModel{}, [](auto t) {
+  return requires {
+    decltype(t)::type::pureTorque;
+  };
+});
 
 /// Whether a build includes a term that reads the bodies' own radii, masses and (with friction)
 /// spins, the raw rows ri, rj, mi, mj, w: a wall contact then gets the particle's as i's and
 /// the wall's as j's (no spin, infinite radius and mass).
-template <class... Terms, bool kFriction, unsigned kOptional>
-constexpr bool readsBodiesIn(TermList<Terms...>, std::bool_constant<kFriction>,
-                             std::integral_constant<unsigned, kOptional>) {
-  return ((kIncludes<Terms, kFriction, kOptional> && requires { Terms::readsBodies; }) || ...);
-}
 template <bool kFriction, unsigned kOptional>
-inline constexpr bool kReadsBodies = readsBodiesIn(ContactModel{}, std::bool_constant<kFriction>{},
-                                                   std::integral_constant<unsigned, kOptional>{});
+inline constexpr bool kReadsBodies =
+    includesAnyIn<kFriction, kOptional>(ContactModel{}, [](auto t) {
+      return requires {
+        decltype(t)::type::readsBodies;
+      };
+    });
 
 /// A term that acts beyond touch (its `reach`, granular/contact_terms/term.hpp).
 template <class T>
@@ -254,14 +257,15 @@ static_assert(reachingTermsLastIn(ContactModel{}),
 /// Whether a build includes a term that acts beyond touch: it then takes the pairs and wall
 /// contacts within the reach (ContactConstants::reach), and on a gap drops the parts of the
 /// terms that need contact.
-template <class... Terms, bool kFriction, unsigned kOptional>
-constexpr bool reachesIn(TermList<Terms...>, std::bool_constant<kFriction>,
-                         std::integral_constant<unsigned, kOptional>) {
-  return ((kIncludes<Terms, kFriction, kOptional> && ReachingTerm<Terms>) || ...);
-}
 template <bool kFriction, unsigned kOptional>
-inline constexpr bool kReaches = reachesIn(ContactModel{}, std::bool_constant<kFriction>{},
-                                           std::integral_constant<unsigned, kOptional>{});
+inline constexpr bool kReaches = includesAnyIn<kFriction, kOptional>(ContactModel{}, [](auto t) {
+  return ReachingTerm<typename decltype(t)::type>;
+});
+
+/// Whether a contact at overlap h [m] touches (else it is a gap that a reaching term spans).
+[[gnu::always_inline]] inline bool touches(double h) {
+  return h > 0.0;
+}
 
 /// Per slot of a term's run (energy or history, `sizeOf` slots a term), whether the build
 /// includes the term and, with kContactOnly, whether the term also acts in contact only.
@@ -368,7 +372,7 @@ template <bool kFriction, unsigned kOptional, NormalLaw kLaw, bool kAdvance, cla
       kReach ? (h > 0.0 ? h : 0.0) : h, c.nx[e], c.ny[e], c.nz[e], c.radius[e], c.mass[e]};
   (firstOf<Terms, kFriction, kOptional, kLaw, kAdvance, false>(k, c, e, lane), ...);
   if constexpr (kReach) {
-    const bool touching = h > 0.0;
+    const bool touching = touches(h);
     lane.normal = touching ? lane.normal : -0.0;
     lane.qx = touching ? lane.qx : -0.0;
     lane.qy = touching ? lane.qy : -0.0;
@@ -414,7 +418,7 @@ template <unsigned kOptional, bool kAdvance, class... Terms>
   lane.vtz = c.vtz[e];
   (secondOf<Terms, kOptional, kAdvance>(k, c, e, lane), ...);
   if constexpr (kReaches<true, kOptional>) {
-    const bool touching = h > 0.0;
+    const bool touching = touches(h);
     lane.tx = touching ? lane.tx : -0.0;
     lane.ty = touching ? lane.ty : -0.0;
     lane.tz = touching ? lane.tz : -0.0;

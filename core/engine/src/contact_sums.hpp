@@ -41,7 +41,7 @@ struct SummedSlots {
 template <bool kFriction, unsigned kOptional>
 bool touches(const ContactChunk& c, std::size_t e) {
   if constexpr (kReaches<kFriction, kOptional>) {
-    return c.overlap[e] > 0.0;
+    return granular::touches(c.overlap[e]);
   } else {
     return true;
   }
