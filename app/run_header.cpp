@@ -148,6 +148,7 @@ std::vector<std::string> reactionWallNames(const Scene& scene) {
   for (std::size_t f = 0; f < kBoxWallNames.size(); ++f) {
     if (scene.box.walls[f]) walls.push_back(kBoxWallNames[f]);
   }
+  for (const Wall& wall : scene.walls) walls.push_back(wall.name);
   for (const StageSpec& stage : scene.stages) {
     if (stage.placeTopWallOnSurface && !scene.box.walls[5]) {
       walls.push_back("top");

@@ -12,7 +12,10 @@
 #include <vtkXMLPolyDataWriter.h>
 
 #include <cmath>
+#include <initializer_list>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include "granular/output_file.hpp"
 #include "granular/stress.hpp"
@@ -130,12 +133,52 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
   index->SetName("wall");
   for (std::size_t w = 0; w < sim.walls().size(); ++w) {
     const Wall& wall = sim.walls()[w];
-    // The plane's largest normal component names the axis it is across; the quad spans the
-    // box along the other two, through the wall's point.
+    // Each wall's cells carry its reaction, velocity and index.
+    auto addCell = [&](std::initializer_list<Vec3> corners) {
+      std::vector<vtkIdType> ids;
+      for (const Vec3& x : corners) ids.push_back(points->InsertNextPoint(x.x(), x.y(), x.z()));
+      quads->InsertNextCell(vtkIdType(ids.size()), ids.data());
+      reaction->InsertNextTuple3(wall.reaction.x(), wall.reaction.y(), wall.reaction.z());
+      velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
+      index->InsertNextValue(int(w));
+    };
+    if (wall.shape == WallShape::Rectangle) {
+      const Vec3 u = wall.halfSide[0] * wall.edge;
+      const Vec3 v = wall.halfSide[1] * wall.normal.cross(wall.edge);
+      addCell({wall.point - u - v, wall.point + u - v, wall.point + u + v, wall.point - u + v});
+      continue;
+    }
+    if (wall.shape == WallShape::Frustum) {
+      // Facets between the start circle and the end circle (a triangle where a radius is 0).
+      constexpr int kFacets = 48;
+      const Vec3 e1 = (std::abs(wall.normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY())
+                          .cross(wall.normal)
+                          .normalized();
+      const Vec3 e2 = wall.normal.cross(e1);
+      const Vec3 end = wall.point + wall.length * wall.normal;
+      auto around = [&](int k) {
+        const double angle = 2.0 * std::numbers::pi * k / kFacets;
+        return Vec3(std::cos(angle) * e1 + std::sin(angle) * e2);
+      };
+      for (int k = 0; k < kFacets; ++k) {
+        const Vec3 a = around(k), b = around(k + 1);
+        if (wall.radiusStart == 0.0) {
+          addCell({wall.point, end + wall.radiusEnd * a, end + wall.radiusEnd * b});
+        } else if (wall.radiusEnd == 0.0) {
+          addCell({wall.point + wall.radiusStart * a, wall.point + wall.radiusStart * b, end});
+        } else {
+          addCell({wall.point + wall.radiusStart * a, wall.point + wall.radiusStart * b,
+                   end + wall.radiusEnd * b, end + wall.radiusEnd * a});
+        }
+      }
+      continue;
+    }
+    // An infinite plane: its largest normal component names the axis it is across; the quad
+    // spans the box along the other two, through the wall's point.
     int axis = 0;
     wall.normal.cwiseAbs().maxCoeff(&axis);
     const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-    vtkIdType ids[4];
+    Vec3 corners[4];
     const double cornersA[4] = {boxMin[a], boxMax[a], boxMax[a], boxMin[a]};
     const double cornersB[4] = {boxMin[b], boxMin[b], boxMax[b], boxMax[b]};
     for (int k = 0; k < 4; ++k) {
@@ -146,12 +189,9 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
       x[axis] = wall.point[axis] - (wall.normal[a] * (x[a] - wall.point[a]) +
                                     wall.normal[b] * (x[b] - wall.point[b])) /
                                        wall.normal[axis];
-      ids[k] = points->InsertNextPoint(x.x(), x.y(), x.z());
+      corners[k] = x;
     }
-    quads->InsertNextCell(4, ids);
-    reaction->InsertNextTuple3(wall.reaction.x(), wall.reaction.y(), wall.reaction.z());
-    velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
-    index->InsertNextValue(int(w));
+    addCell({corners[0], corners[1], corners[2], corners[3]});
   }
   vtkNew<vtkPolyData> poly;
   poly->SetPoints(points);

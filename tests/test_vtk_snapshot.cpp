@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkIdList.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -197,5 +198,59 @@ TEST(VtkSnapshot, StressGridsAndTrajectoriesReadBackWithTheirValues) {
   const auto lines = readVtp(dir / "lines.vtp");
   EXPECT_EQ(lines->GetNumberOfLines(), 2);
   EXPECT_EQ(lines->GetNumberOfPoints(), 5);
+  fs::remove_all(dir);
+}
+
+TEST(VtkSnapshot, ShellWallsAreFacetedOnTheirSurfaces) {
+  // A cylinder, a cone and a rectangle: every point written lies on its wall's surface (the
+  // facets' corners are points of it), each cell carries its wall's index.
+  Particles p;
+  p.add(Vec3(0, 0, 0.5), 0.03, 500.0);
+  Wall cylinder;
+  cylinder.name = "cylinder";
+  cylinder.shape = WallShape::Frustum;
+  cylinder.point = Vec3(0.1, 0.2, 0.0);
+  cylinder.normal = Vec3(0, 1, 1).normalized();
+  cylinder.length = 0.4;
+  cylinder.radiusStart = cylinder.radiusEnd = 0.2;
+  Wall cone = cylinder;
+  cone.name = "cone";
+  cone.radiusStart = 0.0;
+  Wall plate;
+  plate.name = "plate";
+  plate.shape = WallShape::Rectangle;
+  plate.normal = Vec3::UnitZ();
+  plate.edge = Vec3::UnitX();
+  plate.halfSide[0] = 0.3;
+  plate.halfSide[1] = 0.1;
+  SimulationConfig cfg;
+  cfg.timeStep = 1e-4;
+  const Simulation sim(std::move(p), {cylinder, cone, plate}, cfg);
+  const fs::path dir = fs::temp_directory_path() / "granular_vtk_shells";
+  fs::create_directories(dir);
+  app::writeWallsVtp(dir / "walls.vtp", sim, Vec3::Zero(), Vec3::Ones());
+  const auto walls = readVtp(dir / "walls.vtp");
+  vtkDataArray* index = walls->GetCellData()->GetArray("wall");
+  ASSERT_TRUE(index);
+  ASSERT_EQ(walls->GetNumberOfPolys(), 48 + 48 + 1);
+  auto onSurface = [&](const Wall& w, const Vec3& x) {
+    const Vec3 r = x - w.point;
+    if (w.shape == WallShape::Rectangle) {
+      return std::abs(r.dot(w.normal)) < 1e-12 && std::abs(r.dot(w.edge)) <= 0.3 + 1e-12;
+    }
+    const double z = r.dot(w.normal), rho = (r - z * w.normal).norm();
+    const double expected = w.radiusStart + z / w.length * (w.radiusEnd - w.radiusStart);
+    return z > -1e-12 && z < w.length + 1e-12 && std::abs(rho - expected) < 1e-12;
+  };
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < walls->GetNumberOfPolys(); ++c) {
+    const Wall& w = sim.walls()[std::size_t(index->GetTuple1(c))];
+    walls->GetCellPoints(c, ids);
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      double x[3];
+      walls->GetPoint(ids->GetId(k), x);
+      EXPECT_TRUE(onSurface(w, Vec3(x[0], x[1], x[2]))) << w.name << " cell " << c;
+    }
+  }
   fs::remove_all(dir);
 }

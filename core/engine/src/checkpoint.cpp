@@ -6,6 +6,7 @@
 #include <cstring>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -66,6 +67,17 @@ template <class Io>
 void fields(Io& io, Wall& w) {
   io(w.name), io(w.point), io(w.normal), io(w.velocity), io(w.reaction), io(w.impulse);
 }
+/// A wall's shape and turn, after format 7's fields when any wall is not an infinite plane (a
+/// scene of planes keeps the bytes it had; a build before shells refuses the section as
+/// trailing data).
+constexpr std::string_view kWallShapesTag = "wall_shapes";
+
+template <class Io>
+void shapeFields(Io& io, Wall& w) {
+  io(w.shape), io(w.edge), io(w.halfSide[0]), io(w.halfSide[1]), io(w.length);
+  io(w.radiusStart), io(w.radiusEnd), io(w.angularVelocity), io(w.pivot), io(w.travel);
+}
+
 /// An energy account as the file holds it (format 5): its column, its value at the last force
 /// evaluation, its sum since the start, and (Stored) its value at the start.
 struct StoredAccount {
@@ -458,6 +470,14 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   w(counters.smallestStep), w(counters.largestStep);
   w(check.time), w(check.networkStep), w(check.omegaMax), w(check.dampingRatio);
   w(check.particle), w(check.contacts), w(check.accuracyStep), w(check.chosenStep);
+  if (std::any_of(state.walls.begin(), state.walls.end(),
+                  [](const Wall& x) { return x.shell(); })) {
+    std::string tag(kWallShapesTag);
+    w(tag);
+    for (const Wall& wall : state.walls) shapeFields(w, const_cast<Wall&>(wall));  // read only
+    std::vector<double> travel = state.neighbours.referenceWallTravel;
+    w(travel);
+  }
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -597,6 +617,20 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     r(k.largestStep);
     r(c.time), r(c.networkStep), r(c.omegaMax), r(c.dampingRatio), r(c.particle), r(c.contacts);
     r(c.accuracyStep), r(c.chosenStep);
+  }
+  NeighbourList& list = state->neighbours;
+  if (version >= 7 && !r.atEnd()) {
+    std::string tag;
+    r(tag);
+    if (tag != kWallShapesTag) r.corrupted("trailing data");
+    for (Wall& wall : state->walls) {
+      shapeFields(r, wall);
+      if (wall.shape > WallShape::Frustum) r.corrupted("a wall's shape is unknown");
+    }
+    r(list.referenceWallTravel);
+  } else {
+    // Infinite planes only: their travel is not used, and is zero where a run keeps it.
+    list.referenceWallTravel.assign(list.referenceWallPoint.size(), 0.0);
   }
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);

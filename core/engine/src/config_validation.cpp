@@ -8,6 +8,7 @@
 
 #include "granular/error.hpp"
 #include "particle_fields.hpp"
+#include "wall_motion.hpp"
 
 namespace granular {
 namespace {
@@ -132,11 +133,7 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
                                           std::string(field.name) + " is not finite");
     });
   }
-  for (const Wall& w : walls) {
-    requireConfig(std::abs(w.normal.norm() - 1.0) < 1e-12,
-                  "wall " + w.name + ": normal must be a unit vector");
-    requireConfig(w.point.allFinite() && w.velocity.allFinite(), "wall " + w.name + ": not finite");
-  }
+  for (const Wall& w : walls) validateWall(w);
   requireDistinctCentres(p);
 }
 

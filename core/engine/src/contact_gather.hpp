@@ -10,6 +10,7 @@
 
 #include "chunk_kernels.hpp"
 #include "pair_springs.hpp"
+#include "wall_contact.hpp"
 
 namespace granular {
 
@@ -73,6 +74,26 @@ inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& li
   return m;
 }
 
+/// pickTouchingWallContacts for a wall of finite shape: the distance from its closest point.
+template <bool kReach>
+std::size_t pickTouchingShellContacts(const Particles& p, const NeighbourList& list,
+                                      const Wall& wall, std::size_t w, std::size_t begin,
+                                      std::size_t count, ContactChunk& c, std::size_t m,
+                                      double beyond) {
+  for (std::size_t k = begin; k < begin + count; ++k) {
+    const std::uint32_t i = list.wallParticles[w][k];
+    const double distance = touchOf(wall, p.position[i]).distance;
+    c.slot[m] = static_cast<std::uint32_t>(k);
+    c.wall[m] = static_cast<std::uint32_t>(w);
+    if constexpr (kReach) {
+      m += p.radius[i] - distance > -beyond ? 1 : 0;
+    } else {
+      m += p.radius[i] - distance > 0.0 ? 1 : 0;
+    }
+  }
+  return m;
+}
+
 /// Appends the touching ones (kReach: within `beyond`) among wall w's candidates
 /// [begin, begin + count) to the chunk's m
 /// entries (slot: candidate, wall: w); returns the new count. Touching when the overlap
@@ -82,6 +103,8 @@ inline std::size_t pickTouchingWallContacts(const Particles& p, const NeighbourL
                                             const Wall& wall, std::size_t w, std::size_t begin,
                                             std::size_t count, ContactChunk& c, std::size_t m,
                                             double beyond) {
+  if (wall.shell())
+    return pickTouchingShellContacts<kReach>(p, list, wall, w, begin, count, c, m, beyond);
   for (std::size_t k = begin; k < begin + count; ++k) {
     const std::uint32_t i = list.wallParticles[w][k];
     const double distance = (p.position[i] - wall.point).dot(wall.normal);
@@ -141,9 +164,9 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
 }
 
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
-/// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed velocity; n
-/// points from the particle towards the wall. In a build with a term that reads the bodies
-/// (kReadsBodies) the raw columns get the particle's radius, mass and spin as i's, and the
+/// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed motion; n
+/// points from the particle towards the wall's closest point. In a build with a term that reads the
+/// bodies (kReadsBodies) the raw columns get the particle's radius, mass and spin as i's, and the
 /// wall's as j's: infinite radius and mass, no spin.
 template <bool kFriction, unsigned kOptional>
 void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
@@ -151,11 +174,23 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t k = c.slot[e], w = c.wall[e];
     const Wall& wall = walls[w];
-    const Vec3 n = -wall.normal;
     const std::uint32_t i = list.wallParticles[w][k];
-    const double h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
-    const double arm = p.radius[i] - 0.5 * h;
-    const Vec3 v = p.velocity[i] - wall.velocity;
+    Vec3 n;
+    double h, arm;
+    Vec3 v;
+    if (!wall.shell()) {
+      n = -wall.normal;
+      h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
+      arm = p.radius[i] - 0.5 * h;
+      v = p.velocity[i] - wall.velocity;
+    } else {
+      // The wall's material point at the contact moves with the wall's translation and turn.
+      const WallTouch touch = touchOf(wall, p.position[i]);
+      n = -touch.normal;
+      h = p.radius[i] - touch.distance;
+      arm = p.radius[i] - 0.5 * h;
+      v = p.velocity[i] - wall.velocityAt(p.position[i] + arm * n);
+    }
     c.nx[e] = n.x();
     c.ny[e] = n.y();
     c.nz[e] = n.z();

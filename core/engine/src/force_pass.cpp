@@ -267,7 +267,10 @@ class PlannedPass {
         // d_ci × F on the particle, d_ci = a n.
         if constexpr (kFriction) s_.torque[i] += c.armI[e] * normalOf(c, e).cross(f);
         if constexpr (kPureTorque<kFriction, kOptional>) s_.torque[i] += pureTorqueOf(c, e);
-        sums.wall(w, f, f.dot(s_.walls[w].velocity), i);
+        const Wall& wall = s_.walls[w];
+        const Vec3 at =
+            wall.shell() ? Vec3(p_.position[i] + c.armI[e] * normalOf(c, e)) : Vec3::Zero();
+        sums.wall(w, f, f.dot(wall.shell() ? wall.velocityAt(at) : wall.velocity), i);
       }
       if constexpr (kFriction) {  // the examined candidates forget their springs, then keep these
         for (const CandidateSpan& span : spans_) {

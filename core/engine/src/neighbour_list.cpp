@@ -9,6 +9,7 @@
 
 #include "pair_springs.hpp"
 #include "simulation_state.hpp"
+#include "wall_contact.hpp"
 
 namespace granular {
 namespace {
@@ -245,11 +246,14 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
     }
   }
 
-  // Wall candidates: particles whose surface is within the margin of the plane (or beyond it).
+  // Wall candidates: particles whose surface is within the margin of the wall's surface (or
+  // beyond a plane).
   std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (std::size_t i = 0; i < n; ++i) {
-      const double distance = (p.position[i] - walls[w].point).dot(walls[w].normal);
+      const double distance = walls[w].shell()
+                                  ? touchOf(walls[w], p.position[i]).distance
+                                  : (p.position[i] - walls[w].point).dot(walls[w].normal);
       if (distance < p.radius[i] + margin)
         wallParticles[w].push_back(static_cast<std::uint32_t>(i));
     }
@@ -282,6 +286,8 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   setReferencePositions(list, p.position);
   list.referenceWallPoint.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallPoint[w] = walls[w].point;
+  list.referenceWallTravel.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) list.referenceWallTravel[w] = walls[w].travel;
   list.valid = true;
   list.plan.valid = false;  // the force pass rebuilds it
 }
@@ -320,7 +326,8 @@ double largestMove2(const NeighbourList& list, const Particles& p, std::size_t b
 bool neighbourListStale(const NeighbourList& list, const Particles& p,
                         const std::vector<Wall>& walls, double maxMove2) {
   if (!list.valid || list.referencePosition.size() != p.size() ||
-      list.referenceWallPoint.size() != walls.size()) {
+      list.referenceWallPoint.size() != walls.size() ||
+      list.referenceWallTravel.size() != walls.size()) {
     return true;
   }
   // Two particles approach by at most twice the largest displacement; a particle and a wall by
@@ -329,8 +336,11 @@ bool neighbourListStale(const NeighbourList& list, const Particles& p,
   const double maxMove = std::sqrt(maxMove2) + list.referenceRounding;
   if (2.0 * maxMove >= list.skin) return true;
   for (std::size_t w = 0; w < walls.size(); ++w) {
+    // A plane's move across itself; a shell's surface travel since the rebuild (moveWall).
     const double wallMove =
-        std::abs((walls[w].point - list.referenceWallPoint[w]).dot(walls[w].normal));
+        walls[w].shell()
+            ? walls[w].travel - list.referenceWallTravel[w]
+            : std::abs((walls[w].point - list.referenceWallPoint[w]).dot(walls[w].normal));
     if (maxMove + wallMove >= list.skin) return true;
   }
   return false;

@@ -13,6 +13,7 @@
 #include "force_pass.hpp"
 #include "network_bound.hpp"
 #include "simulation_state.hpp"
+#include "wall_contact.hpp"
 
 namespace granular {
 
@@ -198,7 +199,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
         if (c.overlap < 0.0) return;
         const std::size_t i = c.particle;
         if (c.isWall()) {
-          const double u = (p.velocity[i] - s.walls[c.wall()].velocity).dot(c.normal);
+          const double u = (p.velocity[i] - s.walls[c.wall()].velocityAt(c.point)).dot(c.normal);
           out.fastestApproach = std::max(out.fastestApproach, u);
           add(i, i, p.radius[i], p.mass[i], c.overlap + impactOverlap(p.mass[i], p.radius[i], u));
         } else {
@@ -238,9 +239,11 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
       const Wall& wall = s.walls[w];
       for (std::uint32_t i : list.wallParticles[w]) {
         if (i >= p.size()) continue;
-        const double gap = (p.position[i] - wall.point).dot(wall.normal) - p.radius[i];
+        const WallTouch touch = touchOf(wall, p.position[i]);
+        const double gap = touch.distance - p.radius[i];
         if (!(gap > 0.0)) continue;
-        const double u = -(p.velocity[i] - wall.velocity).dot(wall.normal);
+        const Vec3 closest = p.position[i] - touch.distance * touch.normal;
+        const double u = -(p.velocity[i] - wall.velocityAt(closest)).dot(touch.normal);
         if (!(u > 0.0) || gap > u * lookahead) continue;
         out.fastestApproach = std::max(out.fastestApproach, u);
         add(i, i, p.radius[i], p.mass[i], impactOverlap(p.mass[i], p.radius[i], u));

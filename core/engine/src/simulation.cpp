@@ -19,6 +19,7 @@
 #include "simulation_passes.hpp"
 #include "simulation_state.hpp"
 #include "step_check.hpp"
+#include "wall_motion.hpp"
 
 namespace granular {
 
@@ -188,9 +189,9 @@ Prediction predict(Step& step) {
   return out;
 }
 
-/// 2. The walls move with their prescribed velocities, and the clock by the step.
+/// 2. The walls move with their prescribed translations and turns, and the clock by the step.
 void moveWalls(SimulationState& s, double dt) {
-  for (Wall& w : s.walls) w.point += w.velocity * dt;
+  for (Wall& w : s.walls) moveWall(w, dt);
   ++s.stepsSinceOrigin;
   ++s.steps;
 }

@@ -9,6 +9,7 @@
 #include "simulation_passes.hpp"
 #include "simulation_state.hpp"
 #include "step_check.hpp"
+#include "wall_motion.hpp"
 
 namespace granular {
 
@@ -24,8 +25,7 @@ void Simulation::setSkin(double skin) {
 }
 
 std::size_t Simulation::addWall(const Wall& wall) {
-  requireConfig(std::abs(wall.normal.norm() - 1.0) < 1e-12,
-                "wall " + wall.name + ": normal must be a unit vector");
+  validateWall(wall);
   SimulationState& s = *state_;
   s.walls.push_back(wall);
   s.neighbours.valid = false;  // the new wall needs its candidate list

@@ -72,7 +72,9 @@ struct NeighbourList {
   std::vector<Eigen::Vector3f> referencePosition;
   double referenceRounding = 0.0;        ///< bound on |reference - position at the build| [m]
   std::vector<Vec3> referenceWallPoint;  ///< wall points at the last build [m]
-  double skin = 0.0;                     ///< [m]
+  /// Each shell wall's Wall::travel at the last build [m] (planes: unused).
+  std::vector<double> referenceWallTravel;
+  double skin = 0.0;  ///< [m]
   bool valid = false;
   ForcePlan plan;  ///< derived from the lists (not checkpointed), built by the force pass
 };

@@ -12,6 +12,7 @@
 #include "granular/error.hpp"
 #include "pair_springs.hpp"
 #include "particle_fields.hpp"
+#include "wall_motion.hpp"
 
 namespace granular {
 
@@ -155,6 +156,12 @@ void checkWalls(const Checker& c, const SimulationState& s) {
     c.finite(w.impulse, "a wall impulse");
     c.require(w.normal.allFinite() && std::abs(w.normal.norm() - 1.0) < 1e-12,
               "wall '" + w.name + "': normal is not a unit vector");
+    try {
+      validateWall(w);
+    } catch (const ConfigError& e) {
+      c.fail(e.what());
+    }
+    c.nonNegative(w.travel, "a wall's travel");
   }
 }
 
@@ -238,6 +245,13 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
     c.require(!x.hasNaN(), "a reference position is NaN");
   }
   for (const Vec3& x : list.referenceWallPoint) c.finite(x, "a reference wall point");
+  c.sized(list.referenceWallTravel, list.valid ? walls : list.referenceWallTravel.size(),
+          "reference wall travels");
+  for (std::size_t w = 0; w < list.referenceWallTravel.size(); ++w) {
+    c.require(list.referenceWallTravel[w] >= 0.0 &&
+                  (w >= s.walls.size() || list.referenceWallTravel[w] <= s.walls[w].travel),
+              "a reference wall travel is negative or ahead of its wall");
+  }
   c.nonNegative(list.skin, "skin");
 }
 

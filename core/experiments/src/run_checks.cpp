@@ -126,8 +126,10 @@ std::string RunChecks::outsideBox(const Simulation& sim, const std::string& stag
   // The walls where they are now (a moving wall, the top placed by a stage), and the faces of
   // the box that are not walls but bound where particles start: the sides and the floor.
   std::vector<Bound> bounds;
-  for (const Wall& w : sim.walls())
-    bounds.push_back({w.point, w.normal, "the wall " + w.name, true, w.velocity});
+  // (A shell wall bounds no half-space: the planes and the box do.)
+  for (const Wall& w : sim.walls()) {
+    if (!w.shell()) bounds.push_back({w.point, w.normal, "the wall " + w.name, true, w.velocity});
+  }
   for (std::size_t face = 0; face + 1 < kBoxWallNames.size(); ++face) {
     if (box_.walls[face] || sim.findWall(kBoxWallNames[face]) >= 0) continue;
     const int axis = int(face / 2);

@@ -313,7 +313,9 @@ Simulation buildSimulation(const Scene& scene) {
   SimulationConfig config = scene.simulation;
   config.material.density = built.density;
   try {
-    return Simulation(std::move(built.particles), buildWalls(scene.box), config);
+    std::vector<Wall> walls = buildWalls(scene.box);
+    walls.insert(walls.end(), scene.walls.begin(), scene.walls.end());
+    return Simulation(std::move(built.particles), std::move(walls), config);
   } catch (const TimeStepError& e) {
     // A packed start's step, refused against its contact network: name the file, line and key.
     const auto at = scene.keyLocations.find("simulation.time_step");

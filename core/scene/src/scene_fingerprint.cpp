@@ -97,6 +97,14 @@ std::uint64_t boxHash(const BoxSpec& box) {
   return c.hash();
 }
 
+/// A wall's shape, geometry and motion at the start (its reaction is the run's).
+std::uint64_t wallHash(const Wall& w) {
+  Canonical c;
+  c << w.name << w.shape << w.point << w.normal << w.velocity << w.edge << w.halfSide[0]
+    << w.halfSide[1] << w.length << w.radiusStart << w.radiusEnd << w.angularVelocity << w.pivot;
+  return c.hash();
+}
+
 std::uint64_t gridHash(const GridGenerator& g) {
   const auto& [origin, cellSize, cells, count, radiusMin, radiusMax, speedMax, seed] = g;
   Canonical c;
@@ -152,8 +160,8 @@ std::uint64_t outputHash(const OutputSpec& o) {
 }  // namespace
 
 SceneFingerprint fingerprintScene(const Scene& scene) {
-  const auto& [sourceFile, simulation, box, generators, totalMass, stages, output, keyLocations,
-               warnings] = scene;
+  const auto& [sourceFile, simulation, box, walls, generators, totalMass, stages, output,
+               keyLocations, warnings] = scene;
   // The scene file's name, the keys' lines and the loader's warnings are not part of the run:
   // only what messages say.
   static_cast<void>(keyLocations);
@@ -183,6 +191,11 @@ SceneFingerprint fingerprintScene(const Scene& scene) {
   f.parts.push_back({"simulation.impact_speed", impact.hash(),
                      "simulation.impact_speed (given" + in + ", or computed from the particles)"});
   f.parts.push_back({"box", boxHash(box), "[box]" + in});
+  // Only a scene with walls beside the box has the part: the others keep their fingerprints.
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    const std::string key = "walls[" + std::to_string(i) + "]";
+    f.parts.push_back({key, wallHash(walls[i]), key + " '" + walls[i].name + "'" + in});
+  }
   for (std::size_t i = 0; i < generators.size(); ++i) {
     const std::string key = "particles[" + std::to_string(i) + "]";
     if (const auto* grid = std::get_if<GridGenerator>(&generators[i])) {

@@ -85,6 +85,7 @@
 #include "stages_reader.hpp"
 #include "step_checks_at_load.hpp"
 #include "toml_table_reader.hpp"
+#include "walls_reader.hpp"
 
 namespace granular {
 
@@ -226,19 +227,20 @@ Scene loadScene(const std::filesystem::path& file) {
   scene.simulation.material = readMaterial(root, name);
   const bool impactSpeedGiven = readSimulation(root, name, scene);
   scene.box = readBox(root, name);
+  scene.walls = readWalls(root, name);
   MotionBound bound;
   scene.generators = readParticles(root, name, file.parent_path(), scene.box,
                                    scene.simulation.material.hasFriction(), bound);
   scene.totalMass = root.optionalNumber("total_mass", Range::above(0));
   // An automatic step has no smallest value known here: its stages are not counted in steps.
   scene.stages =
-      readStages(root, name, scene.box,
+      readStages(root, name, scene.box, scene.walls,
                  scene.simulation.step.automatic ? std::numeric_limits<double>::infinity()
                                                  : scene.simulation.timeStep);
   scene.output = readOutput(root, name);
   if (!impactSpeedGiven) {
     scene.simulation.impactSpeed =
-        defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages);
+        defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages, scene.walls);
   }
   checkTimeStep(root, name, scene, bound);
   warnOfDeepOverlaps(root, name, scene, bound, impactSpeedGiven);

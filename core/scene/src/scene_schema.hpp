@@ -10,8 +10,8 @@
 
 namespace granular::scene_schema {
 
-inline constexpr std::string_view kTopLevel[] = {"material",   "simulation", "box",   "particles",
-                                                 "total_mass", "stages",     "output"};
+inline constexpr std::string_view kTopLevel[] = {"material",  "simulation", "box",    "walls",
+                                                 "particles", "total_mass", "stages", "output"};
 inline constexpr std::string_view kSimulation[] = {
     "gravity", "integrator",   "time_step",   "step_safety", "contact_resolution",
     "skin",    "impact_speed", "on_unstable", "exact_sums"};
@@ -19,6 +19,12 @@ inline constexpr std::string_view kBox[] = {"min", "max", "walls"};
 inline constexpr std::string_view kGridParticles[] = {"type",       "origin",    "cell_size",
                                                       "cells",      "count",     "radius_min",
                                                       "radius_max", "speed_max", "seed"};
+/// Every shape's keys together (walls_reader.cpp checks each shape's own).
+inline constexpr std::string_view kWall[] = {
+    "name",   "shape",        "point",      "normal",       "centre",
+    "edge",   "half_sides",   "base",       "axis",         "length",
+    "radius", "radius_start", "radius_end", "inner_radius", "angular_velocity",
+    "pivot"};
 inline constexpr std::string_view kCsvParticles[] = {"type", "file"};
 inline constexpr std::string_view kStage[] = {"name",
                                               "max_time",
@@ -37,6 +43,7 @@ struct Table {
 inline constexpr Table kTables[] = {{"", kTopLevel},
                                     {"simulation", kSimulation},
                                     {"box", kBox},
+                                    {"walls", kWall},
                                     {"particles.grid", kGridParticles},
                                     {"particles.csv", kCsvParticles},
                                     {"stages", kStage},

@@ -15,7 +15,8 @@ namespace {
 constexpr double kMaxStageSteps = 1e12;
 
 std::vector<WallMotion> readWallMotions(const TomlTableReader& stage, const std::string& file,
-                                        const BoxSpec& box, bool topAvailable) {
+                                        const BoxSpec& box, const std::vector<Wall>& others,
+                                        bool topAvailable) {
   const toml::table* table = stage.subTable("wall_velocity");
   if (!table) return {};
   const TomlTableReader r(*table, stage.keyPath("wall_velocity"), file);
@@ -39,6 +40,7 @@ std::vector<WallMotion> readWallMotions(const TomlTableReader& stage, const std:
                                    "): add it to box.walls to move it");
     }
   }
+  for (const Wall& w : others) walls.push_back(w.name);
   r.expectOnly(walls);
   std::vector<WallMotion> motions;
   for (auto&& [key, node] : *table) {
@@ -60,7 +62,8 @@ std::string fileSafeName(const std::string& name) {
 }
 
 std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string& file,
-                                  const BoxSpec& box, double timeStep) {
+                                  const BoxSpec& box, const std::vector<Wall>& walls,
+                                  double timeStep) {
   const toml::array* array = root.tableArray("stages");
   if (!array) root.failMissing("stages");
   std::vector<StageSpec> stages;
@@ -101,7 +104,7 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
     }
     if (s.placeTopWallOnSurface) topPlacedBy = s.name;
     s.resetClock = r.boolean("reset_clock", false);
-    s.wallMotions = readWallMotions(r, file, box, box.walls[5] || !topPlacedBy.empty());
+    s.wallMotions = readWallMotions(r, file, box, walls, box.walls[5] || !topPlacedBy.empty());
     stages.push_back(std::move(s));
   }
   return stages;

@@ -9,9 +9,10 @@
 
 namespace granular {
 
-/// The stages in file order. `timeStep` bounds max_time (infinity for an automatic step, whose
-/// smallest value is not known at load).
+/// The stages in file order; their wall velocities may name the box's walls and `walls`. `timeStep`
+/// bounds max_time (infinity for an automatic step, whose smallest value is not known at load).
 std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string& file,
-                                  const BoxSpec& box, double timeStep);
+                                  const BoxSpec& box, const std::vector<Wall>& walls,
+                                  double timeStep);
 
 }  // namespace granular

@@ -16,9 +16,16 @@
 namespace granular {
 
 double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity,
-                          const std::vector<StageSpec>& stages) {
+                          const std::vector<StageSpec>& stages, const std::vector<Wall>& walls) {
   const double height = std::max(0.0, bound.highestTop - box.min.z());
   double wall = 0.0;
+  // A wall's fastest surface point: its translation, plus its turn times the farthest point
+  // of its shape from the pivot.
+  for (const Wall& w : walls) {
+    const double reach = (w.point - w.pivot).norm() + w.halfSide[0] + w.halfSide[1] + w.length +
+                         std::max(w.radiusStart, w.radiusEnd);
+    wall = std::max(wall, w.velocity.norm() + w.angularVelocity.norm() * reach);
+  }
   for (const StageSpec& stage : stages) {
     for (const WallMotion& motion : stage.wallMotions)
       wall = std::max(wall, motion.velocity.norm());

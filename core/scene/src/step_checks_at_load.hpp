@@ -15,9 +15,10 @@ namespace granular {
 /// speed a particle can reach, which is its largest initial speed, plus the free-fall speed from
 /// the highest particle top to the floor, plus twice the fastest wall's speed (a particle struck
 /// by a wall leaves it at up to twice the wall's speed). A particle meets a wall at most at that
-/// speed plus the wall's, which is less than twice it.
+/// speed plus the wall's, which is less than twice it. The walls are the stages' moving walls
+/// and `walls` (the [[walls]] array, with their turns).
 double defaultImpactSpeed(const MotionBound& bound, const BoxSpec& box, const Vec3& gravity,
-                          const std::vector<StageSpec>& stages);
+                          const std::vector<StageSpec>& stages, const std::vector<Wall>& walls);
 
 /// The engine's stability rule (Simulation refuses the same step), checked with the density the
 /// builder will use, so that the message can name the key. Also refuses a total_mass that would

@@ -1,21 +1,57 @@
 #pragma once
-/// Plane walls. A wall is a body of infinite radius and mass (docs/physics.md §2.3).
+/// Walls: bodies of infinite mass with a prescribed motion (docs/physics.md §2.3, §2.19). An
+/// infinite plane bounds a half-space; the finite shapes are thin shells that particles touch
+/// from either side, each giving a particle at most one contact: with its closest point.
+#include <cstdint>
 #include <string>
 
 #include "granular/vec3.hpp"
 
 namespace granular {
 
-/// An infinite plane through `point` with unit `normal` pointing into the granular domain.
+/// The geometry of a wall.
+enum class WallShape : std::uint8_t {
+  /// An infinite plane through `point` with unit `normal` into the granular domain; a particle
+  /// behind it presses into it however deep it is.
+  Plane,
+  /// A finite plane: the rectangle centred on `point` in the plane of `normal`, with half-sides
+  /// `halfSide[0]` along the unit `edge` and `halfSide[1]` along normal × edge.
+  Rectangle,
+  /// The surface swept by the segment from radius `radiusStart` at `point` to `radiusEnd` at
+  /// point + length · normal, about the axis through `point` along the unit `normal`: a cylinder
+  /// (equal radii), a cone or frustum, a disc (length 0, radiusStart 0) or an annulus.
+  Frustum,
+};
+
 struct Wall {
-  std::string name;              ///< "x-", "x+", "y-", "y+", "bottom", "top" or user's
-  Vec3 point = Vec3::Zero();     ///< a point of the plane [m]
-  Vec3 normal = Vec3::UnitZ();   ///< unit normal into the domain [-]
+  std::string name;           ///< "x-", "x+", "y-", "y+", "bottom", "top" or user's
+  Vec3 point = Vec3::Zero();  ///< a point of the plane; a rectangle's centre; a frustum's base [m]
+  Vec3 normal = Vec3::UnitZ();   ///< unit normal into the domain; a frustum's axis [-]
   Vec3 velocity = Vec3::Zero();  ///< prescribed translation velocity [m/s]
   Vec3 reaction = Vec3::Zero();  ///< force of the particles on the wall at the last step [N]
   /// ∫ reaction dt since the start [N s]: the mean reaction over any interval is the difference
   /// of two readings over its length (Eq. 2 asks for averaged reactions).
   Vec3 impulse = Vec3::Zero();
+
+  WallShape shape = WallShape::Plane;
+  Vec3 edge = Vec3::UnitX();    ///< a rectangle's unit in-plane direction of halfSide[0] [-]
+  double halfSide[2] = {0, 0};  ///< a rectangle's half-sides [m]
+  double length = 0;            ///< a frustum's extent along its axis [m]
+  double radiusStart = 0;       ///< a frustum's radius at `point` [m]
+  double radiusEnd = 0;         ///< a frustum's radius at point + length · normal [m]
+  /// Prescribed angular velocity [rad/s] about the axis through `pivot` (a rotating drum, a
+  /// stirrer). An infinite plane does not rotate.
+  Vec3 angularVelocity = Vec3::Zero();
+  Vec3 pivot = Vec3::Zero();  ///< a point of the rotation axis; it moves with `velocity` [m]
+  /// How far any point of the surface can have moved since the start [m]: the sum of each
+  /// step's bound (a shape turning about its own axis of symmetry moves no surface). The
+  /// neighbour list is rebuilt when it has grown by the skin.
+  double travel = 0;
+
+  /// A finite shape (a shell touched from either side), not the infinite plane.
+  bool shell() const { return shape != WallShape::Plane; }
+  /// The velocity of the wall's material point at `at` [m/s].
+  Vec3 velocityAt(const Vec3& at) const { return velocity + angularVelocity.cross(at - pivot); }
 };
 
 }  // namespace granular

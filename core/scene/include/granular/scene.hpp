@@ -108,6 +108,8 @@ struct Scene {
   std::filesystem::path sourceFile;  ///< the TOML file it came from (empty if built in C++)
   SimulationConfig simulation;       ///< material, gravity, integrator, time step
   BoxSpec box;
+  /// The [[walls]] array: walls of any shape beside the box's faces, at their start.
+  std::vector<Wall> walls;
   std::vector<Generator> generators;
   /// If set, the density is scaled so that the total mass equals this [kg].
   std::optional<double> totalMass;

@@ -1,0 +1,128 @@
+/// readWalls: the [[walls]] array (walls_reader.hpp). Each shape takes its own keys, given in
+/// the scene's terms (a cylinder's base, axis, length and radius) and turned into the engine's
+/// (granular/wall.hpp); the turn applies to every shape but the infinite plane. A wall's
+/// translation is a stage's, as the box faces' are ([stages.wall_velocity]).
+#include "walls_reader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string_view>
+
+#include "scene_schema.hpp"
+
+namespace granular {
+
+namespace {
+
+/// The keys every shape takes, then each shape's own.
+constexpr std::string_view kCommon[] = {"name", "shape", "angular_velocity", "pivot"};
+struct ShapeKeys {
+  std::string_view shape;
+  std::vector<std::string_view> keys;
+};
+const std::vector<ShapeKeys>& shapeKeys() {
+  static const std::vector<ShapeKeys> shapes = {
+      {"plane", {"point", "normal"}},
+      {"rectangle", {"centre", "normal", "edge", "half_sides"}},
+      {"cylinder", {"base", "axis", "length", "radius"}},
+      {"cone", {"base", "axis", "length", "radius_start", "radius_end"}},
+      {"disc", {"centre", "normal", "radius", "inner_radius"}},
+  };
+  return shapes;
+}
+
+/// A direction given as any nonzero vector, made unit.
+Vec3 direction(const TomlTableReader& r, std::string_view key) {
+  const Vec3 v = r.vec3(key, Range::any());
+  const double norm = v.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) r.fail(key, "must be a nonzero direction");
+  return v / norm;
+}
+
+Wall readWall(const TomlTableReader& r, std::size_t index) {
+  std::vector<std::string_view> names;
+  for (const ShapeKeys& s : shapeKeys()) names.push_back(s.shape);
+  const std::string shape = r.choice("shape", "", names);
+  const auto it = std::find_if(shapeKeys().begin(), shapeKeys().end(),
+                               [&](const ShapeKeys& s) { return s.shape == shape; });
+  std::vector<std::string_view> allowed(std::begin(kCommon), std::end(kCommon));
+  allowed.insert(allowed.end(), it->keys.begin(), it->keys.end());
+  r.expectOnly(allowed);
+
+  Wall w;
+  w.name = r.string("name", "wall" + std::to_string(index + 1));
+  if (w.name.empty()) r.fail("name", "must not be empty");
+  for (char c : w.name) {
+    // Names head CSV columns and label figures: no separators, quotes or spaces.
+    if (c == ',' || c == '"' || c == ' ' || c < ' ') {
+      r.fail("name", "use letters, digits and -_.+ (no spaces, commas or quotes)");
+    }
+  }
+  if (shape == "plane") {
+    w.shape = WallShape::Plane;
+    w.point = r.vec3("point", Range::any());
+    w.normal = direction(r, "normal");
+  } else if (shape == "rectangle") {
+    w.shape = WallShape::Rectangle;
+    w.point = r.vec3("centre", Range::any());
+    w.normal = direction(r, "normal");
+    const Vec3 edge = direction(r, "edge");
+    if (std::abs(edge.dot(w.normal)) > 1e-9) {
+      r.fail("edge", "must lie in the rectangle's plane (normal to `normal`)");
+    }
+    w.edge = (edge - edge.dot(w.normal) * w.normal).normalized();
+    const std::vector<double> half = r.numbers("half_sides", Range::above(0));
+    if (half.size() != 2) r.fail("half_sides", "must be 2 numbers: along the edge and across it");
+    w.halfSide[0] = half[0];
+    w.halfSide[1] = half[1];
+  } else if (shape == "cylinder" || shape == "cone") {
+    w.shape = WallShape::Frustum;
+    w.point = r.vec3("base", Range::any());
+    w.normal = direction(r, "axis");
+    w.length = r.number("length", Range::above(0));
+    if (shape == "cylinder") {
+      w.radiusStart = w.radiusEnd = r.number("radius", Range::above(0));
+    } else {
+      w.radiusStart = r.number("radius_start", Range::atLeast(0));
+      w.radiusEnd = r.number("radius_end", Range::atLeast(0));
+      if (w.radiusStart == 0.0 && w.radiusEnd == 0.0) {
+        r.fail("radius_end", "a cone needs a radius > 0 at one end at least");
+      }
+    }
+  } else {  // disc
+    w.shape = WallShape::Frustum;
+    w.point = r.vec3("centre", Range::any());
+    w.normal = direction(r, "normal");
+    w.radiusEnd = r.number("radius", Range::above(0));
+    w.radiusStart = r.number("inner_radius", 0.0, Range::atLeast(0));
+    if (w.radiusStart >= w.radiusEnd) r.fail("inner_radius", "must be below radius");
+  }
+  w.angularVelocity = r.vec3("angular_velocity", Vec3::Zero(), Range::any());
+  if (w.shape == WallShape::Plane && !w.angularVelocity.isZero(0.0)) {
+    r.fail("angular_velocity", "an infinite plane does not turn; make it a rectangle");
+  }
+  w.pivot = r.vec3("pivot", w.point, Range::any());
+  return w;
+}
+
+}  // namespace
+
+std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file) {
+  const toml::array* array = root.tableArray("walls");
+  if (!array) return {};
+  std::vector<Wall> walls;
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const TomlTableReader r(*array->get(i)->as_table(), "walls[" + std::to_string(i) + "]", file);
+    Wall w = readWall(r, i);
+    if (std::find(kBoxWallNames.begin(), kBoxWallNames.end(), w.name) != kBoxWallNames.end()) {
+      r.fail("name", "is the name of a box face; choose another");
+    }
+    for (const Wall& earlier : walls) {
+      if (earlier.name == w.name) r.fail("name", "another wall has this name");
+    }
+    walls.push_back(std::move(w));
+  }
+  return walls;
+}
+
+}  // namespace granular

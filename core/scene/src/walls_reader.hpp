@@ -1,0 +1,16 @@
+#pragma once
+/// Reading the scene's [[walls]] array (private to the core): walls of any shape beside the
+/// box's faces, each with its geometry and prescribed motion.
+#include <string>
+#include <vector>
+
+#include "granular/scene.hpp"
+#include "toml_table_reader.hpp"
+
+namespace granular {
+
+/// The walls in file order (none without the array). Names must be unique and differ from the
+/// box's face names.
+std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file);
+
+}  // namespace granular
