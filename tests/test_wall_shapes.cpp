@@ -15,6 +15,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
+#include "granular/network_frequency.hpp"
 #include "granular/scene.hpp"
 #include "granular/stage.hpp"
 #include "physics_fixtures.hpp"
@@ -280,6 +281,36 @@ TEST_F(WallShapesCheckpoint, ResumesARunWithTurningAndSlidingShellsBitForBit) {
     EXPECT_EQ(first.walls()[w].travel, resumed.walls()[w].travel);
   }
   EXPECT_GT(first.counters().wallContacts, 0u);
+}
+
+TEST(WallShapes, TheStepsBoundCountsAShellsContactsAndApproachesAsAPlanes) {
+  // A sphere pressed into a cone at overlap h, and one approaching a cylinder across a gap at
+  // speed u (relative to the turning wall's surface): the network's bound is the same number as
+  // for the sphere against a plane at that overlap, or approaching it so.
+  const double h = 2e-4, gap = 1e-4, u = 0.5;
+  const Wall hopper = cone(Vec3::Zero(), Vec3::UnitZ(), 0.4, 0.1, 0.3);
+  const double alpha = std::atan(0.5), z = 0.2, surface = 0.1 + z * 0.5;
+  const Vec3 radial = Vec3::UnitX();
+  const Vec3 pressed = z * Vec3::UnitZ() + (surface - (kR - h) / std::cos(alpha)) * radial;
+  const Wall floor{"floor", Vec3::Zero(), Vec3::UnitZ()};
+  auto bound = [](const Vec3& x, const Vec3& v, const Wall& wall) {
+    Particles p;
+    p.add(x, kR, 500.0, v);
+    const Simulation sim(std::move(p), {wall}, config(0.3, Vec3::Zero()));
+    return networkFrequencyBound(sim, 32, 1e-3);
+  };
+  const NetworkFrequency onCone = bound(pressed, Vec3::Zero(), hopper);
+  const NetworkFrequency onPlane = bound(Vec3(0, 0, kR - h), Vec3::Zero(), floor);
+  EXPECT_EQ(onCone.contacts, 1u);
+  EXPECT_NEAR(onCone.omegaMax, onPlane.omegaMax, 1e-12 * onPlane.omegaMax);
+  // The drum turns at 2 rad/s: its surface moves across the approach, not along it.
+  Wall drum = cylinder(Vec3(0, -0.1, 0), Vec3::UnitY(), 0.2, 0.2);
+  drum.angularVelocity = Vec3(0, 2, 0);
+  const NetworkFrequency toDrum = bound(Vec3(0, 0, -0.2 + kR + gap), Vec3(0, 0, -u), drum);
+  const NetworkFrequency toPlane = bound(Vec3(0, 0, kR + gap), Vec3(0, 0, -u), floor);
+  EXPECT_EQ(toDrum.approaching, 1u);
+  EXPECT_NEAR(toDrum.fastestApproach, u, 1e-12);
+  EXPECT_NEAR(toDrum.omegaMax, toPlane.omegaMax, 1e-9 * toPlane.omegaMax);
 }
 
 TEST(WallShapes, ABadShapeIsRefusedByName) {

@@ -4,10 +4,12 @@
 /// byte for byte (positions, velocities, spins, the integrator's derivatives, the springs, the
 /// neighbour list, the ledger, the counters), on 1-4 ranks, both integrators, with and without
 /// friction, a moving wall, a fixed and an automatic step, and liquid bridges that pull across
-/// gaps (pairs beyond the contacts' reach, whose partners the halo must still hold).
+/// gaps (pairs beyond the contacts' reach, whose partners the halo must still hold), and a floor
+/// that is a turning plate.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -30,7 +32,8 @@ struct Case {
   Integrator integrator;
   double friction;
   bool automaticStep;
-  bool wet = false;  ///< liquid bridges out to 0.6 R_max beyond touch
+  bool wet = false;        ///< liquid bridges out to 0.6 R_max beyond touch
+  bool turntable = false;  ///< the floor a square plate turning about the box's vertical axis
 };
 
 Simulation bed(const Case& c, BoxSpec& box) {
@@ -52,6 +55,18 @@ Simulation bed(const Case& c, BoxSpec& box) {
   std::vector<Wall> walls = buildWalls(box);
   for (Wall& wall : walls) {
     if (wall.name == "x+") wall.velocity = Vec3(-0.05, 0, 0);
+    if (wall.name == "bottom" && c.turntable) {
+      // A plate wider than the box, whose corners sweep around: the shell's travel rebuilds
+      // the lists, and its surface velocity drags the bed round by friction.
+      const Vec3 size = box.max - box.min;
+      wall.shape = WallShape::Rectangle;
+      wall.point =
+          Vec3(0.5 * (box.min.x() + box.max.x()), 0.5 * (box.min.y() + box.max.y()), box.min.z());
+      wall.edge = Vec3::UnitX();
+      wall.halfSide[0] = wall.halfSide[1] = std::max(size.x(), size.y());
+      wall.angularVelocity = Vec3(0, 0, 2.0);
+      wall.pivot = wall.point;
+    }
   }
   return Simulation(std::move(p), std::move(walls), cfg);
 }
@@ -88,11 +103,12 @@ void compareSplitBySpace(const Case& c) {
     const std::uint64_t steps = k == 0 ? 1500 : 100;
     alone.run(steps);
     split.run(steps);
-    SCOPED_TRACE(::testing::Message() << "rank " << w.rank() << " of " << w.size() << ", "
-                                      << (c.friction > 0 ? "frictional " : "frictionless ")
-                                      << (c.integrator == Integrator::Gear5 ? "Gear5" : "Verlet")
-                                      << (c.automaticStep ? ", automatic step" : "")
-                                      << (c.wet ? ", wet" : "") << ", step " << split.stepCount());
+    SCOPED_TRACE(::testing::Message()
+                 << "rank " << w.rank() << " of " << w.size() << ", "
+                 << (c.friction > 0 ? "frictional " : "frictionless ")
+                 << (c.integrator == Integrator::Gear5 ? "Gear5" : "Verlet")
+                 << (c.automaticStep ? ", automatic step" : "") << (c.wet ? ", wet" : "")
+                 << (c.turntable ? ", turntable" : "") << ", step " << split.stepCount());
     const Simulation whole = split.wholeState();
     ASSERT_EQ(whole.particles().size(), alone.particles().size());
     ASSERT_EQ(whole.stateHash(), alone.stateHash());
@@ -174,4 +190,11 @@ TEST(Ranks, SplitBySpaceWithAnAutomaticStepIsOneProcessToTheBit) {
 TEST(Ranks, SplitBySpaceWithLiquidBridgesIsOneProcessToTheBit) {
   // The bridges reach a third of a diameter beyond touch: the split's ghosts reach as far.
   compareSplitBySpace({Integrator::VelocityVerlet, 0.3, false, true});
+}
+
+TEST(Ranks, SplitBySpaceOnATurningPlateIsOneProcessToTheBit) {
+  // A shell wall (a square plate under the bed, turning about the vertical axis): every rank
+  // moves it alike, its travel rebuilds every rank's lists at the same steps, and its surface
+  // velocity reaches the contacts on whichever rank holds them.
+  compareSplitBySpace({Integrator::VelocityVerlet, 0.3, false, false, true});
 }

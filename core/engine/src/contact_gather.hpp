@@ -75,11 +75,13 @@ inline std::size_t pickTouchingPairs(const Particles& p, const NeighbourList& li
 }
 
 /// pickTouchingWallContacts for a wall of finite shape: the distance from its closest point.
+/// Out of line, so that the planes' path in the force pass stays as small as it was.
 template <bool kReach>
-std::size_t pickTouchingShellContacts(const Particles& p, const NeighbourList& list,
-                                      const Wall& wall, std::size_t w, std::size_t begin,
-                                      std::size_t count, ContactChunk& c, std::size_t m,
-                                      double beyond) {
+[[gnu::noinline]] std::size_t pickTouchingShellContacts(const Particles& p,
+                                                        const NeighbourList& list, const Wall& wall,
+                                                        std::size_t w, std::size_t begin,
+                                                        std::size_t count, ContactChunk& c,
+                                                        std::size_t m, double beyond) {
   for (std::size_t k = begin; k < begin + count; ++k) {
     const std::uint32_t i = list.wallParticles[w][k];
     const double distance = touchOf(wall, p.position[i]).distance;
@@ -163,6 +165,18 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
   }
 }
 
+/// A shell's contact with the particle at x (radius r, velocity u): the normal n out of the
+/// particle, overlap h, arm and the velocity relative to the wall's material point at the
+/// contact, which moves with the wall's translation and turn. Out of line (see above).
+[[gnu::noinline]] inline void shellContact(const Wall& wall, const Vec3& x, double r, const Vec3& u,
+                                           Vec3& n, double& h, double& arm, Vec3& v) {
+  const WallTouch touch = touchOf(wall, x);
+  n = -touch.normal;
+  h = r - touch.distance;
+  arm = r - 0.5 * h;
+  v = u - wall.velocityAt(x + arm * n);
+}
+
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed motion; n
 /// points from the particle towards the wall's closest point. In a build with a term that reads the
@@ -184,12 +198,7 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
       arm = p.radius[i] - 0.5 * h;
       v = p.velocity[i] - wall.velocity;
     } else {
-      // The wall's material point at the contact moves with the wall's translation and turn.
-      const WallTouch touch = touchOf(wall, p.position[i]);
-      n = -touch.normal;
-      h = p.radius[i] - touch.distance;
-      arm = p.radius[i] - 0.5 * h;
-      v = p.velocity[i] - wall.velocityAt(p.position[i] + arm * n);
+      shellContact(wall, p.position[i], p.radius[i], p.velocity[i], n, h, arm, v);
     }
     c.nx[e] = n.x();
     c.ny[e] = n.y();
