@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <tuple>
 
 namespace granular {
@@ -17,6 +18,13 @@ struct EdgeUse {
   std::uint8_t k;  ///< edge k of the triangle: its vertex k to vertex k + 1
   bool upward;     ///< the triangle runs low → high
 };
+
+/// A vertex as a message names it: (x, y, z) to 6 digits, in the mesh's units.
+std::string pointText(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", v.x(), v.y(), v.z());
+  return text;
+}
 
 }  // namespace
 
@@ -71,8 +79,8 @@ MeshTopology meshTopology(const TriangleMesh& mesh, bool closed, std::vector<Mes
     }
     const EdgeUse& first = edges[begin];
     auto where = [&](const EdgeUse& e) {
-      return "its edge from vertex " + std::to_string(e.upward ? e.low : e.high) + " to vertex " +
-             std::to_string(e.upward ? e.high : e.low);
+      return "its edge from " + pointText(mesh.vertex[e.upward ? e.low : e.high]) + " to " +
+             pointText(mesh.vertex[e.upward ? e.high : e.low]);
     };
     if (end - begin == 1) {
       if (closed) defects.push_back({first.triangle, where(first) + " is open (no neighbour)"});
