@@ -19,6 +19,7 @@
 
 #include "granular/output_file.hpp"
 #include "granular/stress.hpp"
+#include "granular/wall_mesh.hpp"
 #include "vtk_xml_file.hpp"
 
 namespace granular::app {
@@ -142,6 +143,13 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
       velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
       index->InsertNextValue(int(w));
     };
+    if (wall.shape == WallShape::Mesh) {
+      const TriangleMesh& mesh = wall.mesh->world;
+      for (const auto& t : mesh.triangle) {
+        addCell({mesh.vertex[t[0]], mesh.vertex[t[1]], mesh.vertex[t[2]]});
+      }
+      continue;
+    }
     if (wall.shape == WallShape::Rectangle) {
       const Vec3 u = wall.halfSide[0] * wall.edge;
       const Vec3 v = wall.halfSide[1] * wall.normal.cross(wall.edge);

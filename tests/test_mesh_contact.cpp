@@ -11,28 +11,14 @@
 
 #include "granular/triangle_mesh.hpp"
 #include "mesh_contact.hpp"
+#include "mesh_fixtures.hpp"
 
 using namespace granular;
+using granular::testing::flatGrid;
 
 namespace {
 
 constexpr double kR = 0.03;  // [m]
-
-/// The unit square [0, 1]² at z = 0 cut into n × n squares of two triangles each (2 n²).
-TriangleMesh flatGrid(int n) {
-  TriangleMesh m;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) m.vertex.push_back(Vec3(double(i) / n, double(j) / n, 0.0));
-  }
-  auto at = [n](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      m.triangle.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      m.triangle.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  }
-  return m;
-}
 
 /// Appends the quad abcd (counter-clockwise seen from its front) as two triangles.
 void addQuad(TriangleMesh& m, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {

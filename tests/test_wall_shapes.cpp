@@ -351,8 +351,8 @@ double weightCarried(const Simulation& sim) {
 
 TEST(WallShapes, TheShippedSiloAndHopperCarryTheirBedsAtRestOnTheirWalls) {
   // Settled (the stage ends on the kinetic energy), the bed's weight rests on the walls: the
-  // silo's floor and cylinder, the hopper's cone, bin and gate.
-  for (const char* name : {"silo.toml", "hopper.toml"}) {
+  // silo's floor and cylinder, the hopper's cone, bin and gate, the meshed bin.
+  for (const char* name : {"silo.toml", "hopper.toml", "mesh-bin.toml"}) {
     const Simulation sim = runShippedScene(name);
     EXPECT_NEAR(weightCarried(sim), 1.0, 0.03) << name;
     for (const Wall& w : sim.walls()) EXPECT_LT(w.reaction.z(), 0.0) << name << " " << w.name;

@@ -3,7 +3,9 @@
 #include "granular/checkpoint.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +16,7 @@
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
 #include "granular/output_file.hpp"
+#include "granular/wall_mesh.hpp"
 #include "number_format.hpp"
 #include "pair_springs.hpp"
 #include "particle_fields.hpp"
@@ -67,17 +70,6 @@ template <class Io>
 void fields(Io& io, Wall& w) {
   io(w.name), io(w.point), io(w.normal), io(w.velocity), io(w.reaction), io(w.impulse);
 }
-/// A wall's shape and turn, after format 7's fields when any wall is not an infinite plane (a
-/// scene of planes keeps the bytes it had; a build before shells refuses the section as
-/// trailing data).
-constexpr std::string_view kWallShapesTag = "wall_shapes";
-
-template <class Io>
-void shapeFields(Io& io, Wall& w) {
-  io(w.shape), io(w.edge), io(w.halfSide[0]), io(w.halfSide[1]), io(w.length);
-  io(w.radiusStart), io(w.radiusEnd), io(w.angularVelocity), io(w.pivot), io(w.travel);
-}
-
 /// An energy account as the file holds it (format 5): its column, its value at the last force
 /// evaluation, its sum since the start, and (Stored) its value at the start.
 struct StoredAccount {
@@ -273,6 +265,36 @@ class Reader {
   std::vector<std::pair<std::size_t, std::size_t>> historyRuns_;  ///< (offset, slots) per term
   std::size_t pos_ = 0;
 };
+
+/// A wall's shape and turn, after format 7's fields when any wall is not an infinite plane (a
+/// scene of planes keeps the bytes it had; a build before shells refuses the section as
+/// trailing data).
+constexpr std::string_view kWallShapesTag = "wall_shapes";
+
+template <class Io>
+void shapeFields(Io& io, Wall& w) {
+  io(w.shape), io(w.edge), io(w.halfSide[0]), io(w.halfSide[1]), io(w.length);
+  io(w.radiusStart), io(w.radiusEnd), io(w.angularVelocity), io(w.pivot), io(w.travel);
+  if (w.shape != WallShape::Mesh) return;
+  // A mesh: its triangles in its own frame, posed again on reading.
+  std::vector<Vec3> vertex;
+  std::vector<std::array<std::uint32_t, 3>> triangle;
+  if constexpr (std::is_same_v<Io, Writer>) {
+    vertex = w.mesh->body->vertex;
+    triangle = w.mesh->body->triangle;
+  }
+  io(vertex), io(triangle);
+  if constexpr (std::is_same_v<Io, Reader>) {
+    auto body = std::make_shared<TriangleMesh>();
+    body->vertex = std::move(vertex);
+    body->triangle = std::move(triangle);
+    std::vector<MeshDefect> defects;
+    meshTopology(*body, false, defects);
+    if (!defects.empty() || body->triangle.empty())
+      io.corrupted("a mesh wall's triangles are not sound");
+    w.mesh = poseMesh(std::move(body), w.point, w.normal, w.edge);
+  }
+}
 
 // ---- The state, field by field, in one order for both directions --------------------------
 
@@ -477,6 +499,8 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
     for (const Wall& wall : state.walls) shapeFields(w, const_cast<Wall&>(wall));  // read only
     std::vector<double> travel = state.neighbours.referenceWallTravel;
     w(travel);
+    std::vector<std::vector<Vec3>> normals = state.neighbours.wallNormal;
+    w(normals);
   }
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
@@ -625,9 +649,10 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     if (tag != kWallShapesTag) r.corrupted("trailing data");
     for (Wall& wall : state->walls) {
       shapeFields(r, wall);
-      if (wall.shape > WallShape::Frustum) r.corrupted("a wall's shape is unknown");
+      if (wall.shape > WallShape::Mesh) r.corrupted("a wall's shape is unknown");
     }
     r(list.referenceWallTravel);
+    r(list.wallNormal);
   } else {
     // Infinite planes only: their travel is not used, and is zero where a run keeps it.
     list.referenceWallTravel.assign(list.referenceWallPoint.size(), 0.0);

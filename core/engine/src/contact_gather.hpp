@@ -177,6 +177,20 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
   v = u - wall.velocityAt(x + arm * n);
 }
 
+/// The history of a contact that has none yet.
+inline const ContactHistory kNoHistory{};
+
+/// A mesh's contact, its normal and overlap already in the chunk's entry e (pickMeshContacts):
+/// the arm and the velocity relative to the mesh's material point at the contact.
+[[gnu::noinline]] inline void meshContact(const Wall& wall, const ContactChunk& c, std::size_t e,
+                                          const Vec3& x, double r, const Vec3& u, Vec3& n,
+                                          double& h, double& arm, Vec3& v) {
+  n = Vec3(c.nx[e], c.ny[e], c.nz[e]);
+  h = c.overlap[e];
+  arm = r - 0.5 * h;
+  v = u - wall.velocityAt(x + arm * n);
+}
+
 /// Copies the m picked wall contacts into the chunk with their geometry: the wall is a body of
 /// infinite radius and mass (R_ij = R_i, m_ij = m_i) moving with its prescribed motion; n
 /// points from the particle towards the wall's closest point. In a build with a term that reads the
@@ -192,13 +206,17 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
     Vec3 n;
     double h, arm;
     Vec3 v;
+    bool fresh = false;  // a mesh's entry that starts a new contact: its spring starts at zero
     if (!wall.shell()) {
       n = -wall.normal;
       h = p.radius[i] - (p.position[i] - wall.point).dot(wall.normal);
       arm = p.radius[i] - 0.5 * h;
       v = p.velocity[i] - wall.velocity;
-    } else {
+    } else if (wall.shape != WallShape::Mesh) {
       shellContact(wall, p.position[i], p.radius[i], p.velocity[i], n, h, arm, v);
+    } else {
+      meshContact(wall, c, e, p.position[i], p.radius[i], p.velocity[i], n, h, arm, v);
+      fresh = c.first[e] != 0;
     }
     c.nx[e] = n.x();
     c.ny[e] = n.y();
@@ -215,7 +233,7 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
       c.cx[e] = contactVelocity.x();
       c.cy[e] = contactVelocity.y();
       c.cz[e] = contactVelocity.z();
-      loadSpring<kFriction, kOptional>(list.wallHistory[w][k], c, e);
+      loadSpring<kFriction, kOptional>(fresh ? kNoHistory : list.wallHistory[w][k], c, e);
     }
     if constexpr (kReadsBodies<kFriction, kOptional>) {
       constexpr double kInfinite = std::numeric_limits<double>::infinity();

@@ -351,6 +351,10 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   require(domains->ranks() == ranks->size(), "split: " + std::to_string(domains->ranks()) +
                                                  " domains for " + std::to_string(ranks->size()) +
                                                  " ranks");
+  for (const Wall& w : s.walls) {
+    require(w.shape != WallShape::Mesh,
+            "split: wall " + w.name + " is a triangle mesh, which a split run does not take yet");
+  }
   require(s.walls.size() <= kMaxWalls,
           "split: " + std::to_string(s.walls.size()) + " walls; a split run takes at most 64");
   require(s.split.domains == nullptr, "split: the run is split already");

@@ -19,6 +19,7 @@
 #include "contact_sums.hpp"
 #include "force_pass.hpp"
 #include "granular/simd_build.hpp"
+#include "mesh_gather.hpp"
 #include "pair_springs.hpp"
 
 namespace granular {
@@ -57,6 +58,8 @@ class PlannedPass {
         scratch_(s.contactScratch),
         constants_(s.config.material, dt),
         walls_(s.walls.size()),
+        anyMesh_(std::any_of(s.walls.begin(), s.walls.end(),
+                             [](const Wall& w) { return w.shape == WallShape::Mesh; })),
         aside_(aside) {}
 
   void ownedPhase(std::size_t t, ContactChunk& chunk) {
@@ -238,6 +241,10 @@ class PlannedPass {
     spans_.clear();
     for (std::size_t w = 0; w < walls_; ++w) {
       const std::size_t end = plan_.blockWall[(b + 1) * walls_ + w];
+      if (s_.walls[w].shape == WallShape::Mesh) {
+        m = blockMesh(w, plan_.blockWall[b * walls_ + w], end, chunk, m, sums);
+        continue;
+      }
       for (std::size_t k = plan_.blockWall[b * walls_ + w]; k < end;) {
         const std::size_t count = std::min(kChunk - m, end - k);
         m = pickTouchingWallContacts<kReach>(p_, list_, s_.walls[w], w, k, count, chunk, m,
@@ -252,6 +259,29 @@ class PlannedPass {
       }
     }
     if (!spans_.empty()) wallChunk(chunk, m, sums);
+  }
+
+  /// Mesh wall w's candidates [begin, end) (kMeshContacts entries each) into the chunk, which
+  /// holds m contacts; returns how many it holds after. Out of line: planes pay nothing for it.
+  template <class Sums>
+  [[gnu::noinline]] std::size_t blockMesh(std::size_t w, std::size_t begin, std::size_t end,
+                                          ContactChunk& chunk, std::size_t m, Sums& sums) {
+    for (std::size_t k = begin; k < end; k += kMeshContacts) {
+      if (m + kMeshContacts > kChunk) {
+        wallChunk(chunk, m, sums);
+        m = 0;
+      }
+      m = pickMeshContacts<kReach>(p_, list_, s_.walls[w], list_.meshGrid[w], w, k, chunk, m,
+                                   constants_.reach, meshContacts_);
+      const auto from = static_cast<std::uint32_t>(k);
+      const auto to = static_cast<std::uint32_t>(k + kMeshContacts);
+      if (!spans_.empty() && spans_.back().wall == w && spans_.back().end == from) {
+        spans_.back().end = to;
+      } else {
+        spans_.push_back({static_cast<std::uint32_t>(w), from, to});
+      }
+    }
+    return m;
   }
 
   /// Flattened: the scatter's small vector sums stay inline whatever else the file instantiates
@@ -287,11 +317,27 @@ class PlannedPass {
         for (std::size_t e = 0; e < m; ++e) {
           list_.wallHistory[c.wall[e]][c.slot[e]] = springOf<kFriction, kOptional>(c, e);
         }
+        if (anyMesh_) keepMeshNormals(c, m);
       }
     };
     throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, true>(constants_, chunk, gather,
                                                                  scatter);
     spans_.clear();
+  }
+
+  /// A mesh's examined entries forget their contacts' normals, then its contacts keep theirs
+  /// (from the mesh towards the particle), by which they find their entries at the next step.
+  [[gnu::noinline]] void keepMeshNormals(const ContactChunk& c, std::size_t m) {
+    for (const CandidateSpan& span : spans_) {
+      if (s_.walls[span.wall].shape != WallShape::Mesh) continue;
+      std::fill(list_.wallNormal[span.wall].begin() + span.begin,
+                list_.wallNormal[span.wall].begin() + span.end, Vec3::Zero());
+    }
+    for (std::size_t e = 0; e < m; ++e) {
+      if (s_.walls[c.wall[e]].shape == WallShape::Mesh) {
+        list_.wallNormal[c.wall[e]][c.slot[e]] = -normalOf(c, e);
+      }
+    }
   }
 
   SimulationState& s_;
@@ -301,9 +347,11 @@ class PlannedPass {
   ContactScratch& scratch_;
   const ContactConstants constants_;
   const std::size_t walls_;
+  const bool anyMesh_;
   std::vector<double>* const aside_;
   std::size_t ownEnd_ = 0;
-  std::vector<CandidateSpan> spans_;  // at most walls + 1 between two wall chunks
+  std::vector<CandidateSpan> spans_;       // the candidates examined since the last wall chunk
+  std::vector<MeshContact> meshContacts_;  // scratch of pickMeshContacts
 };
 
 /// The hot pass. On one thread, one part owns every block. On several, each part computes its
@@ -381,6 +429,11 @@ int forcePass(SimulationState& s, double dt, int threads, const ParticleRangeLoo
 
 int computeContactForces(SimulationState& s, double dt, const ParticleRangeLoop* after) {
   const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
+  for (std::size_t w = 0; w < s.walls.size(); ++w) {
+    if (s.walls[w].shape == WallShape::Mesh) {
+      ensureMeshGrid(s.neighbours, s.particles, s.walls[w], w, reachBeyondTouch(s.config.material));
+    }
+  }
   int failures = 0;
   withLaw(s, [&]<bool kFriction, NormalLaw kLaw, unsigned kOptional>() {
     failures = forcePass<kFriction, kLaw, kOptional>(s, dt, threads, after);

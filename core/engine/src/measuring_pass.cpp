@@ -4,6 +4,7 @@
 
 #include "contact_gather.hpp"
 #include "force_pass.hpp"
+#include "mesh_gather.hpp"
 
 namespace granular {
 namespace {
@@ -46,8 +47,41 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     throughLaw<ChunkOf::Pairs, kFriction, kLaw, kOptional, false>(constants, chunk, gather,
                                                                   scatter);
   }
+  std::vector<MeshContact> meshScratch;
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const std::size_t candidates = list.wallParticles[w].size();
+    auto scatter = [&](const ContactChunk& c, std::size_t m) {
+      for (std::size_t e = 0; e < m; ++e) {
+        const std::uint32_t i = list.wallParticles[w][c.slot[e]];
+        const Vec3 f = forceOf(c, e);
+        force[i] += f;
+        const Vec3 n = normalOf(c, e);
+        visit(i, w, Vec3(p.position[i] + c.armI[e] * n), f, n, c.overlap[e],
+              ContactView::Other::Wall);
+      }
+    };
+    if (s.walls[w].shape == WallShape::Mesh) {
+      // A mesh's candidates, whole (kMeshContacts entries each), as many as a chunk holds.
+      std::optional<TriangleGrid> own;
+      if (w >= list.meshGrid.size() || list.meshGrid[w].empty()) {
+        own = meshGridFor(list, p, s.walls[w], constants.reach);
+      }
+      const TriangleGrid& grid = own ? *own : list.meshGrid[w];
+      for (std::size_t begin = 0; begin < candidates;) {
+        auto gather = [&](ContactChunk& c) {
+          std::size_t m = 0;
+          for (; begin < candidates && m + kMeshContacts <= kChunk; begin += kMeshContacts) {
+            m = pickMeshContacts<kReach>(p, list, s.walls[w], grid, w, begin, c, m, constants.reach,
+                                         meshScratch);
+          }
+          loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
+          return m;
+        };
+        throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(constants, chunk, gather,
+                                                                      scatter);
+      }
+      continue;
+    }
     for (std::size_t begin = 0; begin < candidates; begin += kChunk) {
       const std::size_t count = std::min(kChunk, candidates - begin);
       auto gather = [&](ContactChunk& c) {
@@ -55,16 +89,6 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
                                                                c, 0, constants.reach);
         loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
         return m;
-      };
-      auto scatter = [&](const ContactChunk& c, std::size_t m) {
-        for (std::size_t e = 0; e < m; ++e) {
-          const std::uint32_t i = list.wallParticles[w][c.slot[e]];
-          const Vec3 f = forceOf(c, e);
-          force[i] += f;
-          const Vec3 n = normalOf(c, e);
-          visit(i, w, Vec3(p.position[i] + c.armI[e] * n), f, n, c.overlap[e],
-                ContactView::Other::Wall);
-        }
       };
       throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(constants, chunk, gather,
                                                                     scatter);

@@ -113,8 +113,9 @@ void meshContacts(const TriangleMesh& mesh, const MeshTopology& topology,
   // point found is always a contact.
   if (kept.empty() && !found.empty()) {
     kept.push_back(*std::min_element(
-        found.begin(), found.end(),
-        [](const MeshContact& p, const MeshContact& q) { return p.distance < q.distance; }));
+        found.begin(), found.end(), [](const MeshContact& p, const MeshContact& q) {
+          return p.distance != q.distance ? p.distance < q.distance : p.triangle < q.triangle;
+        }));
   }
   // 3 and 4: nearest first (then by triangle, for the same result on any candidate order); a
   // contact at the point of a nearer one, or on the same surface as it, is that contact.

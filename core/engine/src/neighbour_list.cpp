@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
+#include "granular/wall_mesh.hpp"
 #include "pair_springs.hpp"
 #include "simulation_state.hpp"
 #include "wall_contact.hpp"
@@ -131,15 +133,20 @@ std::size_t partnersOf(const CellGrid& grid, const Particles& p, double margin, 
 
 // ---- History merge ------------------------------------------------------------------------
 
-void carryWallHistory(const std::vector<std::uint32_t>& oldList,
-                      const std::vector<ContactHistory>& oldHistory,
-                      const std::vector<std::uint32_t>& newList,
-                      std::vector<ContactHistory>& newHistory) {
-  newHistory.assign(newList.size(), ContactHistory{});
+/// Each entry of the new candidate list takes the old list's entry of the same particle (the
+/// k-th of a particle's entries the old k-th: a mesh lists a particle several times).
+template <class T>
+void carryWallHistory(const std::vector<std::uint32_t>& oldList, const std::vector<T>& oldHistory,
+                      const std::vector<std::uint32_t>& newList, std::vector<T>& newHistory) {
+  if constexpr (std::is_same_v<T, Vec3>) {
+    newHistory.assign(newList.size(), Vec3::Zero());
+  } else {
+    newHistory.assign(newList.size(), T{});
+  }
   std::size_t a = 0;
   for (std::size_t b = 0; b < newList.size() && a < oldList.size(); ++b) {
     while (a < oldList.size() && oldList[a] < newList[b]) ++a;
-    if (a < oldList.size() && oldList[a] == newList[b]) newHistory[b] = oldHistory[a];
+    if (a < oldList.size() && oldList[a] == newList[b]) newHistory[b] = oldHistory[a++];
   }
 }
 
@@ -247,9 +254,22 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   }
 
   // Wall candidates: particles whose surface is within the margin of the wall's surface (or
-  // beyond a plane).
+  // beyond a plane); a mesh's through its binned triangles, each listed kMeshContacts times.
   std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
+  list.meshGrid.assign(walls.size(), TriangleGrid{});
   for (std::size_t w = 0; w < walls.size(); ++w) {
+    if (walls[w].shape == WallShape::Mesh) {
+      const WallMesh& mesh = *walls[w].mesh;
+      list.meshGrid[w] = binTriangles(mesh.world, rMax + margin, 2.0 * rMax + margin);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double distance =
+            nearestOnMesh(mesh.world, mesh.topology, list.meshGrid[w], p.position[i]).distance;
+        if (distance < p.radius[i] + margin) {
+          wallParticles[w].insert(wallParticles[w].end(), kMeshContacts, std::uint32_t(i));
+        }
+      }
+      continue;
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const double distance = walls[w].shell()
                                   ? touchOf(walls[w], p.position[i]).distance
@@ -274,8 +294,22 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
       }
     }
     list.wallHistory = std::move(wallHistory);
+    // A mesh's entries keep their contacts' normals with their springs.
+    std::vector<std::vector<Vec3>> wallNormal(walls.size());
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      if (walls[w].shape != WallShape::Mesh) continue;
+      if (w < list.wallParticles.size() && w < list.wallNormal.size() &&
+          list.wallNormal[w].size() == list.wallParticles[w].size()) {
+        carryWallHistory(list.wallParticles[w], list.wallNormal[w], wallParticles[w],
+                         wallNormal[w]);
+      } else {
+        wallNormal[w].assign(wallParticles[w].size(), Vec3::Zero());
+      }
+    }
+    list.wallNormal = std::move(wallNormal);
   } else {
     list.springs = PairSprings{};
+    list.wallNormal.clear();
   }
   list.rowStart = std::move(rowStart);
   list.second = std::move(second);

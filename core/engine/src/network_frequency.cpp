@@ -237,9 +237,19 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     }
     for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
       const Wall& wall = s.walls[w];
-      for (std::uint32_t i : list.wallParticles[w]) {
-        if (i >= p.size()) continue;
-        const WallTouch touch = touchOf(wall, p.position[i]);
+      const bool mesh = wall.shape == WallShape::Mesh;
+      const bool binned = mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty();
+      for (std::size_t k = 0; k < list.wallParticles[w].size(); ++k) {
+        const std::uint32_t i = list.wallParticles[w][k];
+        if (i >= p.size() || (mesh && k % kMeshContacts != 0)) continue;  // a mesh's first entry
+        WallTouch touch;
+        if (binned) {
+          const MeshNearest nearest =
+              nearestOnMesh(wall.mesh->world, wall.mesh->topology, list.meshGrid[w], p.position[i]);
+          touch = {nearest.distance, nearest.normal};
+        } else {
+          touch = touchOf(wall, p.position[i]);
+        }
         const double gap = touch.distance - p.radius[i];
         if (!(gap > 0.0)) continue;
         const Vec3 closest = p.position[i] - touch.distance * touch.normal;

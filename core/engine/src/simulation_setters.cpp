@@ -117,6 +117,7 @@ void Simulation::setMaterial(const Material& material) {
     list.springs = PairSprings{};
     list.wallParticles.clear();
     list.wallHistory.clear();
+    list.wallNormal.clear();
     rebuildList(s);
   } else if (reachBeyondTouch(material) != reachBefore) {
     rebuildList(s);  // the pairs within the new reach

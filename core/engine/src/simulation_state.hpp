@@ -17,6 +17,7 @@
 #include "granular/simulation.hpp"
 #include "run_partition.hpp"
 #include "thread_governor.hpp"
+#include "triangle_grid.hpp"
 
 namespace granular {
 
@@ -62,9 +63,16 @@ struct NeighbourList {
   std::vector<std::uint32_t> second;    ///< j of each candidate pair
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
   PairSprings springs;  ///< empty on the frictionless path
-  /// Per wall: candidate particles (sorted) and their tangential history.
+  /// Per wall: candidate particles (sorted) and their tangential history. A mesh wall lists
+  /// each candidate kMeshContacts times in a row, one entry per contact it may have with the
+  /// mesh, and keeps each entry's contact normal (from the mesh towards the particle; zero for
+  /// an entry holding no contact), by which a contact finds its entry again at the next step.
   std::vector<std::vector<std::uint32_t>> wallParticles;
   std::vector<std::vector<ContactHistory>> wallHistory;
+  std::vector<std::vector<Vec3>> wallNormal;  ///< per wall; empty but for meshes with friction
+  /// Per wall: a mesh's triangles binned by where they are at the build, each reaching the
+  /// largest radius plus the skin and the model's reach (derived: rebuilt when missing).
+  std::vector<TriangleGrid> meshGrid;
   /// Particle positions at the last build, rounded to single precision [m]: half the memory of
   /// doubles, the one array a list has per particle. The staleness test adds the rounding's
   /// bound, referenceRounding, to the largest move it measures from them, so that it never

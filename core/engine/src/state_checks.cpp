@@ -10,6 +10,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
+#include "granular/wall_mesh.hpp"
 #include "pair_springs.hpp"
 #include "particle_fields.hpp"
 #include "wall_motion.hpp"
@@ -227,13 +228,28 @@ void checkNeighbours(const Checker& c, const SimulationState& s) {
   c.sized(list.wallHistory, s.frictional ? walls : 0, "wall histories");
   for (std::size_t w = 0; w < walls; ++w) {
     const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
+    // A mesh lists each candidate kMeshContacts times in a row.
+    const bool mesh = s.walls[w].shape == WallShape::Mesh;
+    const std::size_t group = mesh ? kMeshContacts : 1;
+    c.require(candidates.size() % group == 0, "a mesh's candidate list is not in whole groups");
     for (std::size_t k = 0; k < candidates.size(); ++k) {
-      c.require(candidates[k] < n && (k == 0 || candidates[k - 1] < candidates[k]),
+      const bool inGroup = k % group != 0;
+      c.require(candidates[k] < n && (k == 0 || (inGroup ? candidates[k - 1] == candidates[k]
+                                                         : candidates[k - 1] < candidates[k])),
                 "wall candidate list out of range or not sorted");
     }
     if (!s.frictional) continue;
     c.sized(list.wallHistory[w], candidates.size(), "wall history");
     checkHistory(c, list.wallHistory[w]);
+    if (mesh) {
+      c.require(w < list.wallNormal.size() && list.wallNormal[w].size() == candidates.size(),
+                "a mesh's contact normals do not match its candidates");
+      for (const Vec3& normal : list.wallNormal[w]) {
+        c.require(
+            normal.allFinite() && (normal.isZero(0.0) || std::abs(normal.norm() - 1.0) < 1e-9),
+            "a mesh contact's normal is neither zero nor a unit vector");
+      }
+    }
   }
   c.sized(list.referencePosition, list.valid ? n : list.referencePosition.size(),
           "reference positions");

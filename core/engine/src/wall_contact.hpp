@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <limits>
+
 #include "granular/wall.hpp"
+#include "granular/wall_mesh.hpp"
+#include "mesh_contact.hpp"
 
 namespace granular {
 
@@ -69,6 +73,23 @@ inline WallTouch frustumTouch(const Wall& w, const Vec3& x) {
   return {distance, distance > 0.0 ? Vec3((ez * w.normal + er * out) / distance) : out};
 }
 
+/// A mesh's nearest point, over all its triangles: for the few callers outside the force pass
+/// that hold no grid of its triangles (the force pass's picks use the grid, mesh_gather.hpp).
+inline WallTouch meshTouch(const Wall& w, const Vec3& x) {
+  const TriangleMesh& mesh = w.mesh->world;
+  WallTouch best{std::numeric_limits<double>::infinity(), w.normal};
+  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
+    const auto& v = mesh.triangle[t];
+    const Vec3 d =
+        x - closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x).point;
+    const double distance = d.norm();
+    if (distance < best.distance) {
+      best = {distance, distance > 0.0 ? Vec3(d / distance) : w.mesh->topology.normal[t]};
+    }
+  }
+  return best;
+}
+
 }  // namespace wall_detail
 
 inline WallTouch touchOf(const Wall& w, const Vec3& x) {
@@ -77,6 +98,8 @@ inline WallTouch touchOf(const Wall& w, const Vec3& x) {
       return wall_detail::rectangleTouch(w, x);
     case WallShape::Frustum:
       return wall_detail::frustumTouch(w, x);
+    case WallShape::Mesh:
+      return wall_detail::meshTouch(w, x);
     case WallShape::Plane:
       break;
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "config_validation.hpp"
+#include "granular/wall_mesh.hpp"
 
 namespace granular {
 
@@ -14,6 +15,7 @@ namespace {
 /// The farthest any point of the shell's surface is from its `point` [m].
 double extent(const Wall& w) {
   if (w.shape == WallShape::Rectangle) return std::hypot(w.halfSide[0], w.halfSide[1]);
+  if (w.shape == WallShape::Mesh) return w.mesh ? w.mesh->extent : 0.0;
   return std::max(w.radiusStart, std::hypot(w.length, w.radiusEnd));
 }
 
@@ -42,6 +44,7 @@ void moveWall(Wall& w, double dt) {
   w.point += shift;
   w.pivot += shift;
   double travel = shift.norm();
+  bool turned = false;
   const double spin = w.angularVelocity.norm();
   if (spin > 0.0) {
     const Vec3 axis = w.angularVelocity / spin;
@@ -53,9 +56,14 @@ void moveWall(Wall& w, double dt) {
       w.normal = (turn * w.normal).normalized();
       const Vec3 edge = turn * w.edge;
       w.edge = (edge - edge.dot(w.normal) * w.normal).normalized();
+      turned = true;
     }
   }
   w.travel += travel;
+  // A mesh's triangles follow its frame.
+  if (w.shape == WallShape::Mesh && (turned || !shift.isZero(0.0))) {
+    w.mesh = poseMesh(w.mesh->body, w.point, w.normal, w.edge);
+  }
 }
 
 void validateWall(const Wall& w) {
@@ -81,6 +89,14 @@ void validateWall(const Wall& w) {
     requireConfig(std::isfinite(v) && v >= 0.0,
                   name + what + " = " + shortNumber(v) + " m: must be >= 0");
   };
+  if (w.shape == WallShape::Mesh) {
+    requireConfig(w.mesh && w.mesh->body && !w.mesh->world.triangle.empty(),
+                  name + "a mesh wall without triangles");
+    requireConfig(std::abs(w.edge.norm() - 1.0) < 1e-12 && std::abs(w.edge.dot(w.normal)) < 1e-12,
+                  name + "its frame's x axis " + vectorText(w.edge) +
+                      " must be a unit vector normal to its z axis " + vectorText(w.normal));
+    return;
+  }
   if (w.shape == WallShape::Rectangle) {
     requireConfig(std::abs(w.edge.norm() - 1.0) < 1e-12 && std::abs(w.edge.dot(w.normal)) < 1e-12,
                   name + "edge " + vectorText(w.edge) +

@@ -15,6 +15,7 @@
 #include "granular/checkpoint.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/error.hpp"
+#include "granular/wall_mesh.hpp"
 #include "particle_csv.hpp"
 
 namespace granular {
@@ -102,6 +103,15 @@ std::uint64_t wallHash(const Wall& w) {
   Canonical c;
   c << w.name << w.shape << w.point << w.normal << w.velocity << w.edge << w.halfSide[0]
     << w.halfSide[1] << w.length << w.radiusStart << w.radiusEnd << w.angularVelocity << w.pivot;
+  // A mesh's triangles as read (scaled, turned, moved), not its file's path: the same mesh
+  // written another way is the same run.
+  if (w.mesh) {
+    c << std::uint64_t(w.mesh->body->vertex.size());
+    for (const Vec3& v : w.mesh->body->vertex) c << v;
+    for (const auto& t : w.mesh->body->triangle) {
+      for (std::uint32_t k : t) c << std::uint64_t(k);
+    }
+  }
   return c.hash();
 }
 

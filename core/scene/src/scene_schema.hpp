@@ -20,11 +20,28 @@ inline constexpr std::string_view kGridParticles[] = {"type",       "origin",   
                                                       "cells",      "count",     "radius_min",
                                                       "radius_max", "speed_max", "seed"};
 /// Every shape's keys together (walls_reader.cpp checks each shape's own).
-inline constexpr std::string_view kWall[] = {
-    "name",   "shape",        "point",      "normal",       "centre",
-    "edge",   "half_sides",   "base",       "axis",         "length",
-    "radius", "radius_start", "radius_end", "inner_radius", "angular_velocity",
-    "pivot"};
+inline constexpr std::string_view kWall[] = {"name",
+                                             "shape",
+                                             "point",
+                                             "normal",
+                                             "centre",
+                                             "edge",
+                                             "half_sides",
+                                             "base",
+                                             "axis",
+                                             "length",
+                                             "radius",
+                                             "radius_start",
+                                             "radius_end",
+                                             "inner_radius",
+                                             "file",
+                                             "scale",
+                                             "translate",
+                                             "rotation_axis",
+                                             "rotation_degrees",
+                                             "closed",
+                                             "angular_velocity",
+                                             "pivot"};
 inline constexpr std::string_view kCsvParticles[] = {"type", "file"};
 inline constexpr std::string_view kStage[] = {"name",
                                               "max_time",

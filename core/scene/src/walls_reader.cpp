@@ -8,6 +8,14 @@
 #include <cmath>
 #include <string_view>
 
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+
+#include "granular/error.hpp"
+#include "granular/stl_mesh.hpp"
+#include "granular/wall_mesh.hpp"
 #include "scene_schema.hpp"
 
 namespace granular {
@@ -27,6 +35,7 @@ const std::vector<ShapeKeys>& shapeKeys() {
       {"cylinder", {"base", "axis", "length", "radius"}},
       {"cone", {"base", "axis", "length", "radius_start", "radius_end"}},
       {"disc", {"centre", "normal", "radius", "inner_radius"}},
+      {"mesh", {"file", "scale", "translate", "rotation_axis", "rotation_degrees", "closed"}},
   };
   return shapes;
 }
@@ -39,7 +48,36 @@ Vec3 direction(const TomlTableReader& r, std::string_view key) {
   return v / norm;
 }
 
-Wall readWall(const TomlTableReader& r, std::size_t index) {
+/// A mesh from its STL file, scaled, turned and moved into the scene: its triangles are then
+/// where the particles are, in the wall's frame at the start (the identity).
+void readMesh(const TomlTableReader& r, const std::string& file, Wall& w) {
+  const std::filesystem::path path =
+      std::filesystem::path(file).parent_path() / std::filesystem::path(r.string("file"));
+  const double scale = r.number("scale", 1.0, Range::above(0));
+  const Vec3 translate = r.vec3("translate", Vec3::Zero(), Range::any());
+  const Vec3 axis = r.has("rotation_axis") ? direction(r, "rotation_axis") : Vec3::UnitZ();
+  const double degrees = r.number("rotation_degrees", 0.0, Range::closed(-360, 360));
+  const bool closed = r.boolean("closed", false);
+  TriangleMesh mesh;
+  try {
+    mesh = readStlMesh(path, closed);
+  } catch (const SceneError& e) {
+    r.fail("file", e.what());
+  } catch (const IoError& e) {
+    r.fail("file", e.what());
+  }
+  const Eigen::AngleAxisd turn(degrees * std::numbers::pi / 180.0, axis);
+  for (Vec3& v : mesh.vertex) v = translate + turn * (scale * v);
+  auto body = std::make_shared<TriangleMesh>(std::move(mesh));
+  w.shape = WallShape::Mesh;
+  w.point = Vec3::Zero();
+  w.normal = Vec3::UnitZ();
+  w.edge = Vec3::UnitX();
+  w.mesh = poseMesh(std::move(body), w.point, w.normal, w.edge);
+  w.pivot = translate;
+}
+
+Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& file) {
   std::vector<std::string_view> names;
   for (const ShapeKeys& s : shapeKeys()) names.push_back(s.shape);
   const std::string shape = r.choice("shape", "", names);
@@ -89,6 +127,8 @@ Wall readWall(const TomlTableReader& r, std::size_t index) {
         r.fail("radius_end", "a cone needs a radius > 0 at one end at least");
       }
     }
+  } else if (shape == "mesh") {
+    readMesh(r, file, w);
   } else {  // disc
     w.shape = WallShape::Frustum;
     w.point = r.vec3("centre", Range::any());
@@ -101,7 +141,7 @@ Wall readWall(const TomlTableReader& r, std::size_t index) {
   if (w.shape == WallShape::Plane && !w.angularVelocity.isZero(0.0)) {
     r.fail("angular_velocity", "an infinite plane does not turn; make it a rectangle");
   }
-  w.pivot = r.vec3("pivot", w.point, Range::any());
+  w.pivot = r.vec3("pivot", w.shape == WallShape::Mesh ? w.pivot : w.point, Range::any());
   return w;
 }
 
@@ -113,7 +153,7 @@ std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file
   std::vector<Wall> walls;
   for (std::size_t i = 0; i < array->size(); ++i) {
     const TomlTableReader r(*array->get(i)->as_table(), "walls[" + std::to_string(i) + "]", file);
-    Wall w = readWall(r, i);
+    Wall w = readWall(r, i, file);
     if (std::find(kBoxWallNames.begin(), kBoxWallNames.end(), w.name) != kBoxWallNames.end()) {
       r.fail("name", "is the name of a box face; choose another");
     }

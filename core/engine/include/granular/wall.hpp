@@ -3,6 +3,7 @@
 /// infinite plane bounds a half-space; the finite shapes are thin shells that particles touch
 /// from either side, each giving a particle at most one contact: with its closest point.
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "granular/vec3.hpp"
@@ -21,7 +22,13 @@ enum class WallShape : std::uint8_t {
   /// point + length · normal, about the axis through `point` along the unit `normal`: a cylinder
   /// (equal radii), a cone or frustum, a disc (length 0, radiusStart 0) or an annulus.
   Frustum,
+  /// A triangle mesh (an STL file's): `mesh`, posed in the frame with origin `point`, z axis
+  /// `normal` and x axis `edge`. Each triangle is touched from either side; a particle may
+  /// touch the mesh at up to kMeshContacts places at once (docs/physics.md §2.20).
+  Mesh,
 };
+
+struct WallMesh;
 
 struct Wall {
   std::string name;           ///< "x-", "x+", "y-", "y+", "bottom", "top" or user's
@@ -34,7 +41,7 @@ struct Wall {
   Vec3 impulse = Vec3::Zero();
 
   WallShape shape = WallShape::Plane;
-  Vec3 edge = Vec3::UnitX();    ///< a rectangle's unit in-plane direction of halfSide[0] [-]
+  Vec3 edge = Vec3::UnitX();    ///< a rectangle's unit direction of halfSide[0]; a mesh's x axis
   double halfSide[2] = {0, 0};  ///< a rectangle's half-sides [m]
   double length = 0;            ///< a frustum's extent along its axis [m]
   double radiusStart = 0;       ///< a frustum's radius at `point` [m]
@@ -47,6 +54,8 @@ struct Wall {
   /// step's bound (a shape turning about its own axis of symmetry moves no surface). The
   /// neighbour list is rebuilt when it has grown by the skin.
   double travel = 0;
+  /// A mesh wall's triangles (shared by copies of the state; posed anew when it moves).
+  std::shared_ptr<const WallMesh> mesh = nullptr;
 
   /// A finite shape (a shell touched from either side), not the infinite plane.
   bool shell() const { return shape != WallShape::Plane; }

@@ -1,0 +1,39 @@
+#pragma once
+/// The cells of space a mesh's triangles pass near, so that a particle looks at the few
+/// triangles around it, not at all of them (docs/physics.md §2.20).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "granular/triangle_mesh.hpp"
+
+namespace granular {
+
+struct TriangleGrid {
+  Vec3 origin = Vec3::Zero();
+  double cell = 1.0;  ///< cell edge [m]
+  int dims[3] = {0, 0, 0};
+  double reach = 0;  ///< every triangle within this of a point is among its cell's [m]
+  std::vector<std::uint32_t> cellStart;  ///< cells + 1 entries
+  std::vector<std::uint32_t> triangles;
+
+  bool empty() const { return cellStart.empty(); }
+  /// The triangles that may lie within `reach` of x (none outside the grid).
+  std::span<const std::uint32_t> near(const Vec3& x) const;
+};
+
+/// Bins each triangle into every cell its box, grown by `reach`, overlaps; cells of edge
+/// `cell` (at least reach, and at most 64 along the mesh's longest side is not forced).
+TriangleGrid binTriangles(const TriangleMesh& mesh, double reach, double cell);
+
+/// The mesh's point nearest x among the grid's candidates, its distance and the unit normal
+/// from it towards x; distance +∞ where no triangle is within the grid's reach.
+struct MeshNearest {
+  double distance = 0;
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 point = Vec3::Zero();
+};
+MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
+                          const TriangleGrid& grid, const Vec3& x);
+
+}  // namespace granular
