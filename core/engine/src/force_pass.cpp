@@ -130,8 +130,10 @@ class PlannedPass {
     }
   }
 
+  /// Out of line: inlined into the thread part's loop it moves the wall chunk's code and costs
+  /// stage 2 2-3 % (bench/CHANGELOG.md).
   template <class Sums>
-  void blockPairs(std::size_t b, ContactChunk& chunk, Sums& sums) {
+  [[gnu::noinline]] void blockPairs(std::size_t b, ContactChunk& chunk, Sums& sums) {
     const std::size_t end = list_.blockPair[b + 1];
     // Friction: the block's springs (in pair order, of the pairs holding one) are read and
     // rewritten in place: the springs of a chunk's touching pairs go to the array's front once
