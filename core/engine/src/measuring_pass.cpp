@@ -67,7 +67,8 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
         own = meshGridFor(list, p, s.walls[w], constants.reach);
       }
       const TriangleGrid& grid = own ? *own : list.meshGrid[w];
-      for (std::size_t begin = 0; begin < candidates;) {
+      std::size_t begin = 0;  // the next candidate; the gather moves it on
+      while (begin < candidates) {
         auto gather = [&](ContactChunk& c) {
           std::size_t m = 0;
           for (; begin < candidates && m + kMeshContacts <= kChunk; begin += kMeshContacts) {
