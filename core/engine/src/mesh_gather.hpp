@@ -88,8 +88,7 @@ inline TriangleGrid meshGridFor(const NeighbourList& list, const Particles& p, c
                                 double beyond) {
   double rMax = 0.0;
   for (double r : p.radius) rMax = std::max(rMax, r);
-  const double margin = list.skin + beyond;
-  return binTriangles(wall.mesh->world, rMax + margin, 2.0 * rMax + margin);
+  return listGrid(wall.mesh->world, rMax, list.skin + beyond);
 }
 inline void ensureMeshGrid(NeighbourList& list, const Particles& p, const Wall& wall, std::size_t w,
                            double beyond) {

@@ -260,7 +260,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   for (std::size_t w = 0; w < walls.size(); ++w) {
     if (walls[w].shape == WallShape::Mesh) {
       const WallMesh& mesh = *walls[w].mesh;
-      list.meshGrid[w] = binTriangles(mesh.world, rMax + margin, 2.0 * rMax + margin);
+      list.meshGrid[w] = listGrid(mesh.world, rMax, margin);
       for (std::size_t i = 0; i < n; ++i) {
         const double distance =
             nearestOnMesh(mesh.world, mesh.topology, list.meshGrid[w], p.position[i]).distance;

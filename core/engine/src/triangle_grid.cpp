@@ -81,23 +81,7 @@ TriangleGrid binTriangles(const TriangleMesh& mesh, double reach, double cell) {
 
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x) {
-  MeshNearest best;
-  best.distance = std::numeric_limits<double>::infinity();
-  std::uint32_t bestTriangle = 0;
-  for (std::uint32_t t : grid.near(x)) {
-    const auto& v = mesh.triangle[t];
-    const TriangleTouch touch =
-        closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
-    const Vec3 d = x - touch.point;
-    const double distance = d.norm();
-    if (distance < best.distance || (distance == best.distance && t < bestTriangle)) {
-      best.distance = distance;
-      best.point = touch.point;
-      best.normal = distance > 0.0 ? Vec3(d / distance) : topology.normal[t];
-      bestTriangle = t;
-    }
-  }
-  return best;
+  return nearestAmong(mesh, topology, grid.near(x), x);
 }
 
 }  // namespace granular

@@ -2,10 +2,12 @@
 /// The cells of space a mesh's triangles pass near, so that a particle looks at the few
 /// triangles around it, not at all of them (docs/physics.md §2.20).
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
 #include "granular/triangle_mesh.hpp"
+#include "mesh_contact.hpp"
 
 namespace granular {
 
@@ -26,6 +28,13 @@ struct TriangleGrid {
 /// `cell` (at least reach, and at most 64 along the mesh's longest side is not forced).
 TriangleGrid binTriangles(const TriangleMesh& mesh, double reach, double cell);
 
+/// A neighbour list's grid of a mesh: every triangle within the largest radius plus `margin`
+/// (the skin and the model's reach) of a point listed in its cell, cells of 2 R_max + margin.
+/// The list's build and a grid binned again after reading a checkpoint both use this one rule.
+inline TriangleGrid listGrid(const TriangleMesh& mesh, double rMax, double margin) {
+  return binTriangles(mesh, rMax + margin, 2.0 * rMax + margin);
+}
+
 /// The mesh's point nearest x among the grid's candidates, its distance and the unit normal
 /// from it towards x; distance +∞ where no triangle is within the grid's reach.
 struct MeshNearest {
@@ -35,5 +44,29 @@ struct MeshNearest {
 };
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x);
+
+/// The same among any `candidates` (triangle indices); ties go to the lowest index.
+template <class Candidates>
+MeshNearest nearestAmong(const TriangleMesh& mesh, const MeshTopology& topology,
+                         const Candidates& candidates, const Vec3& x) {
+  MeshNearest best;
+  best.distance = std::numeric_limits<double>::infinity();
+  std::uint32_t bestTriangle = 0;
+  for (const auto candidate : candidates) {
+    const auto t = static_cast<std::uint32_t>(candidate);
+    const auto& v = mesh.triangle[t];
+    const TriangleTouch touch =
+        closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
+    const Vec3 d = x - touch.point;
+    const double distance = d.norm();
+    if (distance < best.distance || (distance == best.distance && t < bestTriangle)) {
+      best.distance = distance;
+      best.point = touch.point;
+      best.normal = distance > 0.0 ? Vec3(d / distance) : topology.normal[t];
+      bestTriangle = t;
+    }
+  }
+  return best;
+}
 
 }  // namespace granular

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include <limits>
+#include <ranges>
 
 #include "granular/wall.hpp"
 #include "granular/wall_mesh.hpp"
-#include "mesh_contact.hpp"
+#include "triangle_grid.hpp"
 
 namespace granular {
 
@@ -76,18 +76,10 @@ inline WallTouch frustumTouch(const Wall& w, const Vec3& x) {
 /// A mesh's nearest point, over all its triangles: for the few callers outside the force pass
 /// that hold no grid of its triangles (the force pass's picks use the grid, mesh_gather.hpp).
 inline WallTouch meshTouch(const Wall& w, const Vec3& x) {
-  const TriangleMesh& mesh = w.mesh->world;
-  WallTouch best{std::numeric_limits<double>::infinity(), w.normal};
-  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
-    const auto& v = mesh.triangle[t];
-    const Vec3 d =
-        x - closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x).point;
-    const double distance = d.norm();
-    if (distance < best.distance) {
-      best = {distance, distance > 0.0 ? Vec3(d / distance) : w.mesh->topology.normal[t]};
-    }
-  }
-  return best;
+  const MeshNearest nearest =
+      nearestAmong(w.mesh->world, w.mesh->topology,
+                   std::views::iota(std::size_t(0), w.mesh->world.triangle.size()), x);
+  return {nearest.distance, nearest.normal};
 }
 
 }  // namespace wall_detail
