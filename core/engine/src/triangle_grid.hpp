@@ -45,6 +45,22 @@ struct MeshNearest {
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x);
 
+/// Every triangle index 0..count-1 as a range (std::views::iota trips clang on libstdc++ 12).
+struct AllTriangles {
+  struct Iterator {
+    std::size_t index;
+    std::size_t operator*() const { return index; }
+    Iterator& operator++() {
+      ++index;
+      return *this;
+    }
+    bool operator!=(const Iterator& other) const { return index != other.index; }
+  };
+  std::size_t count;
+  Iterator begin() const { return {0}; }
+  Iterator end() const { return {count}; }
+};
+
 /// The same among any `candidates` (triangle indices); ties go to the lowest index.
 template <class Candidates>
 MeshNearest nearestAmong(const TriangleMesh& mesh, const MeshTopology& topology,

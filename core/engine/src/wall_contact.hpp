@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <ranges>
 
 #include "granular/wall.hpp"
 #include "granular/wall_mesh.hpp"
@@ -77,8 +76,7 @@ inline WallTouch frustumTouch(const Wall& w, const Vec3& x) {
 /// that hold no grid of its triangles (the force pass's picks use the grid, mesh_gather.hpp).
 inline WallTouch meshTouch(const Wall& w, const Vec3& x) {
   const MeshNearest nearest =
-      nearestAmong(w.mesh->world, w.mesh->topology,
-                   std::views::iota(std::size_t(0), w.mesh->world.triangle.size()), x);
+      nearestAmong(w.mesh->world, w.mesh->topology, AllTriangles{w.mesh->world.triangle.size()}, x);
   return {nearest.distance, nearest.normal};
 }
 
