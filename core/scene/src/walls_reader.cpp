@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string_view>
 
 #include <Eigen/Geometry>
@@ -48,9 +49,34 @@ Vec3 direction(const TomlTableReader& r, std::string_view key) {
   return v / norm;
 }
 
+/// Meshes drawn in millimetres and read as metres (or the reverse) come out 1000 times too large
+/// or too small; a factor of 100 either way from the box's diagonal tells them from any real
+/// container, stirrer or chute.
+void checkMeshScale(const TomlTableReader& r, const TriangleMesh& mesh, const BoxSpec& box) {
+  if (mesh.vertex.empty()) return;
+  Vec3 lo = mesh.vertex.front(), hi = lo;
+  for (const Vec3& v : mesh.vertex) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const double span = (hi - lo).norm();
+  const double diagonal = (box.max - box.min).norm();
+  constexpr double kFactor = 100.0;
+  if (span > kFactor * diagonal || span < diagonal / kFactor) {
+    const double ratio = span / diagonal;
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "makes the mesh %.3g m across, %.3g times the box's diagonal of %.3g m: ", span,
+                  ratio, diagonal);
+    r.fail("scale",
+           text + std::string(ratio > 1 ? "is the file in millimetres? (then scale = 0.001)"
+                                        : "is the file in metres already? (then scale = 1)"));
+  }
+}
+
 /// A mesh from its STL file, scaled, turned and moved into the scene: its triangles are then
 /// where the particles are, in the wall's frame at the start (the identity).
-void readMesh(const TomlTableReader& r, const std::string& file, Wall& w) {
+void readMesh(const TomlTableReader& r, const std::string& file, const BoxSpec& box, Wall& w) {
   const std::filesystem::path path =
       std::filesystem::path(file).parent_path() / std::filesystem::path(r.string("file"));
   const double scale = r.number("scale", 1.0, Range::above(0));
@@ -68,6 +94,7 @@ void readMesh(const TomlTableReader& r, const std::string& file, Wall& w) {
   }
   const Eigen::AngleAxisd turn(degrees * std::numbers::pi / 180.0, axis);
   for (Vec3& v : mesh.vertex) v = translate + turn * (scale * v);
+  checkMeshScale(r, mesh, box);
   auto body = std::make_shared<TriangleMesh>(std::move(mesh));
   w.shape = WallShape::Mesh;
   w.point = Vec3::Zero();
@@ -77,7 +104,8 @@ void readMesh(const TomlTableReader& r, const std::string& file, Wall& w) {
   w.pivot = translate;
 }
 
-Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& file) {
+Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& file,
+              const BoxSpec& box) {
   std::vector<std::string_view> names;
   for (const ShapeKeys& s : shapeKeys()) names.push_back(s.shape);
   const std::string shape = r.choice("shape", "", names);
@@ -128,7 +156,7 @@ Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& fi
       }
     }
   } else if (shape == "mesh") {
-    readMesh(r, file, w);
+    readMesh(r, file, box, w);
   } else {  // disc
     w.shape = WallShape::Frustum;
     w.point = r.vec3("centre", Range::any());
@@ -147,13 +175,14 @@ Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& fi
 
 }  // namespace
 
-std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file) {
+std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file,
+                            const BoxSpec& box) {
   const toml::array* array = root.tableArray("walls");
   if (!array) return {};
   std::vector<Wall> walls;
   for (std::size_t i = 0; i < array->size(); ++i) {
     const TomlTableReader r(*array->get(i)->as_table(), "walls[" + std::to_string(i) + "]", file);
-    Wall w = readWall(r, i, file);
+    Wall w = readWall(r, i, file, box);
     if (std::find(kBoxWallNames.begin(), kBoxWallNames.end(), w.name) != kBoxWallNames.end()) {
       r.fail("name", "is the name of a box face; choose another");
     }

@@ -10,7 +10,9 @@
 namespace granular {
 
 /// The walls in file order (none without the array). Names must be unique and differ from the
-/// box's face names.
-std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file);
+/// box's face names. A mesh whose size is out of all proportion to the box (its file in other
+/// units than its `scale` says) is refused.
+std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file,
+                            const BoxSpec& box);
 
 }  // namespace granular
