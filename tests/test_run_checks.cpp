@@ -11,7 +11,9 @@
 #include "granular/contact_theory.hpp"
 #include "granular/engine_studies.hpp"
 #include "granular/run_checks.hpp"
+#include "granular/wall_mesh.hpp"
 #include "granular_process.hpp"
+#include "mesh_fixtures.hpp"
 #include "physics_fixtures.hpp"
 #include "run_progress.hpp"
 
@@ -67,6 +69,42 @@ TEST(EnergyRunChecks, FreeFallKeepsItsBalanceAndLeavesTheOpenFloorWhenTheClosedF
   }
   EXPECT_GE(reportedAt, tStar);
   EXPECT_LT(reportedAt, tStar + interval);
+}
+
+TEST(EnergyRunChecks, ASphereFallingThroughAGapInAMeshFloorIsReportedAndOneBesideItIsNot) {
+  // A meshed floor at z = 0 (4 × 4 squares of 0.25 m) lacks the two triangles of one square:
+  // a sphere of radius 0.03 m above the gap falls through it and out of the box's open floor;
+  // a sphere above the whole floor lands and stays. Only the first is reported, as a way out
+  // past the scene's walls.
+  const double r = 0.03;
+  SimulationConfig cfg;
+  cfg.gravity = Vec3(0, 0, -9.81);
+  cfg.timeStep = stiffestContact(cfg.material, r, 1.0).duration / 50.0;
+  TriangleMesh floor = granular::testing::flatGrid(4, 1.0);
+  const std::size_t gap = 2 * (4 * 1 + 1);  // the square (1, 1): [0.25, 0.5]²
+  floor.triangle.erase(floor.triangle.begin() + long(gap), floor.triangle.begin() + long(gap) + 2);
+  Wall w;
+  w.name = "floor";
+  w.shape = WallShape::Mesh;
+  w.mesh = poseMesh(std::make_shared<const TriangleMesh>(std::move(floor)), Vec3::Zero(),
+                    Vec3::UnitZ(), Vec3::UnitX());
+  Particles p;
+  p.add(Vec3(0.375, 0.375, 0.1), r, cfg.material.density);  // above the gap
+  p.add(Vec3(0.625, 0.625, 0.1), r, cfg.material.density);  // above the floor
+  Simulation sim(std::move(p), {w}, cfg);
+  BoxSpec box;
+  box.walls.fill(false);
+  RunChecks checks(RunCheckSpec{}, box, sim.energy().total());
+  std::vector<std::string> found;
+  const auto sample = std::max<long>(1, std::lround(0.01 / cfg.timeStep));
+  for (int k = 0; k < 40 && found.empty(); ++k) {
+    sim.run(sample);
+    found = checks.atSample(sim, "fill");
+  }
+  ASSERT_EQ(found.size(), 1u) << "the sphere above the gap was never reported";
+  EXPECT_TRUE(contains(found[0], "particle 0 is outside the box")) << found[0];
+  EXPECT_TRUE(contains(found[0], "a gap between them or in a mesh")) << found[0];
+  EXPECT_GT(sim.particles().position[1].z(), 0.5 * r) << "the other sphere stays on the floor";
 }
 
 TEST(EnergyRunChecks, BedAboveTheDampingLimitIsReportedOnceAndStoppedUnderStop) {

@@ -1,6 +1,7 @@
 /// RunChecks (run_checks.hpp): the energy balance and particles outside the box, at samples.
 #include "granular/run_checks.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -58,6 +59,9 @@ std::string throughWall(const Simulation& sim, std::size_t i, const Bound& b) {
 std::string firstOutside(const Simulation& sim, const std::string& stage,
                          const std::vector<Bound>& bounds) {
   const Particles& p = sim.particles();
+  // With walls of other shapes the way out may be an opening they leave or a gap in a mesh.
+  const bool shells =
+      std::any_of(sim.walls().begin(), sim.walls().end(), [](const Wall& w) { return w.shell(); });
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (!sim.owns(i)) continue;
     for (const Bound& b : bounds) {
@@ -69,7 +73,10 @@ std::string firstOutside(const Simulation& sim, const std::string& stage,
              ", " + formatNumber(x.z()) + ") m, radius " + formatNumber(p.radius[i]) +
              " m, wholly beyond " + b.name + " (its centre " + fixed("%.3g", beyond) +
              " m past it): " +
-             (b.wall ? throughWall(sim, i, b) : "it left through a face that is not a wall");
+             (b.wall   ? throughWall(sim, i, b)
+              : shells ? "it left past the scene's walls, through an opening or a gap between "
+                         "them or in a mesh, and through a face of the box that is not a wall"
+                       : "it left through a face that is not a wall");
     }
   }
   return {};
