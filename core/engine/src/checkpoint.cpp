@@ -270,6 +270,23 @@ class Reader {
 /// scene of planes keeps the bytes it had; a build before shells refuses the section as
 /// trailing data).
 constexpr std::string_view kWallShapesTag = "wall_shapes";
+/// The walls' own friction, last, when any wall has its own.
+constexpr std::string_view kWallFrictionTag = "wall_friction";
+
+template <class Io>
+void frictionFields(Io& io, Wall& w) {
+  std::uint8_t own = w.friction.has_value() ? 1 : 0;
+  double value = w.friction.value_or(0.0);
+  io(own), io(value);
+  if constexpr (std::is_same_v<Io, Reader>) {
+    if (own > 1) io.corrupted("a wall's friction flag is neither 0 nor 1");
+    if (own == 1) {
+      w.friction = value;
+    } else {
+      w.friction.reset();
+    }
+  }
+}
 
 template <class Io>
 void shapeFields(Io& io, Wall& w) {
@@ -502,6 +519,12 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
     std::vector<std::vector<Vec3>> normals = state.neighbours.wallNormal;
     w(normals);
   }
+  if (std::any_of(state.walls.begin(), state.walls.end(),
+                  [](const Wall& x) { return x.friction.has_value(); })) {
+    std::string tag(kWallFrictionTag);
+    w(tag);
+    for (const Wall& wall : state.walls) frictionFields(w, const_cast<Wall&>(wall));  // read only
+  }
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -643,20 +666,27 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     r(c.accuracyStep), r(c.chosenStep);
   }
   NeighbourList& list = state->neighbours;
-  if (version >= 7 && !r.atEnd()) {
-    std::string tag;
-    r(tag);
-    if (tag != kWallShapesTag) r.corrupted("trailing data");
+  // The optional trailing sections, each tagged, in the order written.
+  std::string tag;
+  if (version >= 7 && !r.atEnd()) r(tag);
+  if (tag == kWallShapesTag) {
     for (Wall& wall : state->walls) {
       shapeFields(r, wall);
       if (wall.shape > WallShape::Mesh) r.corrupted("a wall's shape is unknown");
     }
     r(list.referenceWallTravel);
     r(list.wallNormal);
+    tag.clear();
+    if (!r.atEnd()) r(tag);
   } else {
     // Infinite planes only: their travel is not used, and is zero where a run keeps it.
     list.referenceWallTravel.assign(list.referenceWallPoint.size(), 0.0);
   }
+  if (tag == kWallFrictionTag) {
+    for (Wall& wall : state->walls) frictionFields(r, wall);
+    tag.clear();
+  }
+  if (!tag.empty()) r.corrupted("trailing data");
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");
   validateRestoredState(*state, name);
   state->neighbours.plan.valid = false;  // derived data: built by the next force pass

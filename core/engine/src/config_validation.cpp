@@ -106,6 +106,16 @@ void requireDistinctCentres(const Particles& p) {
 
 }  // namespace
 
+void requireWallFrictionWithin(const std::vector<Wall>& walls, const Material& material) {
+  for (const Wall& w : walls) {
+    // Frictionless particles run without rotations or springs: no wall can grip them.
+    requireConfig(!(w.friction && *w.friction > 0.0) || material.hasFriction(),
+                  "wall " + w.name + ": friction = " + shortNumber(*w.friction) +
+                      " needs frictional particles (material friction > 0); the particles "
+                      "are frictionless");
+  }
+}
+
 void validateScene(const SimulationConfig& cfg, const Particles& p,
                    const std::vector<Wall>& walls) {
   validateMaterial(cfg.material);
@@ -134,6 +144,7 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
     });
   }
   for (const Wall& w : walls) validateWall(w);
+  requireWallFrictionWithin(walls, cfg.material);
   requireDistinctCentres(p);
 }
 

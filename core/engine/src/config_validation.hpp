@@ -14,6 +14,8 @@ void requireConfig(bool ok, const std::string& what);
 std::string shortNumber(double x);
 /// The step's safety, accuracy floor and check interval.
 void validateStepControl(const StepControl& c);
+/// A wall's friction > 0 needs frictional particles (under `material`).
+void requireWallFrictionWithin(const std::vector<Wall>& walls, const Material& material);
 /// The configuration, the particles (sizes, masses, finite motion, no coincident centres) and
 /// the walls of a new simulation.
 void validateScene(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls);

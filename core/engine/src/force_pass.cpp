@@ -57,6 +57,7 @@ class PlannedPass {
         plan_(s.neighbours.plan),
         scratch_(s.contactScratch),
         constants_(s.config.material, dt),
+        wallConstants_(s.walls, s.config.material, dt, constants_),
         walls_(s.walls.size()),
         anyMesh_(std::any_of(s.walls.begin(), s.walls.end(),
                              [](const Wall& w) { return w.shape == WallShape::Mesh; })),
@@ -236,13 +237,19 @@ class PlannedPass {
     if constexpr (kFriction) springs.finish();
   }
 
-  /// The block's wall contacts, wall by wall, in chunks that may hold several walls.
+  /// The block's wall contacts, wall by wall, in chunks that may hold several walls of one law.
   template <class Sums>
   void blockWalls(std::size_t b, ContactChunk& chunk, Sums& sums) {
     std::size_t m = 0;
     spans_.clear();
+    wallLaw_ = &constants_;
     for (std::size_t w = 0; w < walls_; ++w) {
       const std::size_t end = plan_.blockWall[(b + 1) * walls_ + w];
+      if (const ContactConstants* law = &wallConstants_.of(w); law != wallLaw_) {
+        if (m > 0) wallChunk(chunk, m, sums);  // the chunk so far under its own law
+        m = 0;
+        wallLaw_ = law;
+      }
       if (s_.walls[w].shape == WallShape::Mesh) {
         m = blockMesh(w, plan_.blockWall[b * walls_ + w], end, chunk, m, sums);
         continue;
@@ -322,8 +329,7 @@ class PlannedPass {
         if (anyMesh_) keepMeshNormals(c, m);
       }
     };
-    throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, true>(constants_, chunk, gather,
-                                                                 scatter);
+    throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, true>(*wallLaw_, chunk, gather, scatter);
     spans_.clear();
   }
 
@@ -348,6 +354,8 @@ class PlannedPass {
   const ForcePlan& plan_;
   ContactScratch& scratch_;
   const ContactConstants constants_;
+  const WallConstants wallConstants_;
+  const ContactConstants* wallLaw_ = &constants_;  // the law of the wall chunk being filled
   const std::size_t walls_;
   const bool anyMesh_;
   std::vector<double>* const aside_;

@@ -48,8 +48,10 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
                                                                   scatter);
   }
   std::vector<MeshContact> meshScratch;
+  const WallConstants wallConstants(s.walls, s.config.material, s.config.timeStep, constants);
   for (std::size_t w = 0; w < s.walls.size(); ++w) {
     const std::size_t candidates = list.wallParticles[w].size();
+    const ContactConstants& law = wallConstants.of(w);
     auto scatter = [&](const ContactChunk& c, std::size_t m) {
       for (std::size_t e = 0; e < m; ++e) {
         const std::uint32_t i = list.wallParticles[w][c.slot[e]];
@@ -78,8 +80,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
           loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
           return m;
         };
-        throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(constants, chunk, gather,
-                                                                      scatter);
+        throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(law, chunk, gather, scatter);
       }
       continue;
     }
@@ -91,8 +92,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
         loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
         return m;
       };
-      throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(constants, chunk, gather,
-                                                                    scatter);
+      throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(law, chunk, gather, scatter);
     }
   }
 }

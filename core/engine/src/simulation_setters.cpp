@@ -27,6 +27,7 @@ void Simulation::setSkin(double skin) {
 std::size_t Simulation::addWall(const Wall& wall) {
   validateWall(wall);
   SimulationState& s = *state_;
+  requireWallFrictionWithin({wall}, s.config.material);
   s.walls.push_back(wall);
   s.neighbours.valid = false;  // the new wall needs its candidate list
   rebuildList(s);
@@ -67,6 +68,7 @@ void Simulation::setMaterial(const Material& material) {
     return;  // nothing changes, not even the bits
   }
   validateMaterial(material);
+  requireWallFrictionWithin(s.walls, material);
   const Particles& p = s.particles;
   const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
   const ContactScale scale = stiffestContact(material, rMin, s.config.impactSpeed);

@@ -75,6 +75,10 @@ void validateWall(const Wall& w) {
                     vectorText(w.normal) + " must be a unit vector");
   requireConfig(w.angularVelocity.allFinite() && w.pivot.allFinite(),
                 name + "angular velocity and pivot must be finite");
+  if (w.friction) {
+    requireConfig(std::isfinite(*w.friction) && *w.friction >= 0.0 && *w.friction <= 10.0,
+                  name + "friction = " + shortNumber(*w.friction) + ": must be in [0, 10]");
+  }
   if (w.shape == WallShape::Plane) {
     requireConfig(w.angularVelocity.isZero(0.0),
                   name + "an infinite plane does not turn (angular velocity " +

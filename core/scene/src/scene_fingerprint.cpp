@@ -103,6 +103,8 @@ std::uint64_t wallHash(const Wall& w) {
   Canonical c;
   c << w.name << w.shape << w.point << w.normal << w.velocity << w.edge << w.halfSide[0]
     << w.halfSide[1] << w.length << w.radiusStart << w.radiusEnd << w.angularVelocity << w.pivot;
+  // Only a wall with its own friction adds it: the others keep their fingerprints.
+  if (w.friction) c << std::string("friction") << *w.friction;
   // A mesh's triangles as read (scaled, turned, moved), not its file's path: the same mesh
   // written another way is the same run.
   if (w.mesh) {

@@ -227,7 +227,7 @@ Scene loadScene(const std::filesystem::path& file) {
   scene.simulation.material = readMaterial(root, name);
   const bool impactSpeedGiven = readSimulation(root, name, scene);
   scene.box = readBox(root, name);
-  scene.walls = readWalls(root, name, scene.box);
+  scene.walls = readWalls(root, name, scene.box, scene.simulation.material);
   MotionBound bound;
   scene.generators = readParticles(root, name, file.parent_path(), scene.box,
                                    scene.simulation.material.hasFriction(), bound);

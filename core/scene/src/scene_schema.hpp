@@ -40,6 +40,7 @@ inline constexpr std::string_view kWall[] = {"name",
                                              "rotation_axis",
                                              "rotation_degrees",
                                              "closed",
+                                             "friction",
                                              "angular_velocity",
                                              "pivot"};
 inline constexpr std::string_view kCsvParticles[] = {"type", "file"};

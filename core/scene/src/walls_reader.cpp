@@ -24,7 +24,7 @@ namespace granular {
 namespace {
 
 /// The keys every shape takes, then each shape's own.
-constexpr std::string_view kCommon[] = {"name", "shape", "angular_velocity", "pivot"};
+constexpr std::string_view kCommon[] = {"name", "shape", "friction", "angular_velocity", "pivot"};
 struct ShapeKeys {
   std::string_view shape;
   std::vector<std::string_view> keys;
@@ -105,7 +105,7 @@ void readMesh(const TomlTableReader& r, const std::string& file, const BoxSpec& 
 }
 
 Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& file,
-              const BoxSpec& box) {
+              const BoxSpec& box, const Material& material) {
   std::vector<std::string_view> names;
   for (const ShapeKeys& s : shapeKeys()) names.push_back(s.shape);
   const std::string shape = r.choice("shape", "", names);
@@ -165,6 +165,14 @@ Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& fi
     w.radiusStart = r.number("inner_radius", 0.0, Range::atLeast(0));
     if (w.radiusStart >= w.radiusEnd) r.fail("inner_radius", "must be below radius");
   }
+  if (r.has("friction")) {
+    w.friction = r.number("friction", Range::closed(0, 10));
+    if (*w.friction > 0.0 && !material.hasFriction()) {
+      r.fail("friction",
+             "needs frictional particles: material.friction is 0 (frictionless "
+             "particles have no rotations or tangential springs for a wall to grip)");
+    }
+  }
   w.angularVelocity = r.vec3("angular_velocity", Vec3::Zero(), Range::any());
   if (w.shape == WallShape::Plane && !w.angularVelocity.isZero(0.0)) {
     r.fail("angular_velocity", "an infinite plane does not turn; make it a rectangle");
@@ -176,13 +184,13 @@ Wall readWall(const TomlTableReader& r, std::size_t index, const std::string& fi
 }  // namespace
 
 std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file,
-                            const BoxSpec& box) {
+                            const BoxSpec& box, const Material& material) {
   const toml::array* array = root.tableArray("walls");
   if (!array) return {};
   std::vector<Wall> walls;
   for (std::size_t i = 0; i < array->size(); ++i) {
     const TomlTableReader r(*array->get(i)->as_table(), "walls[" + std::to_string(i) + "]", file);
-    Wall w = readWall(r, i, file, box);
+    Wall w = readWall(r, i, file, box, material);
     if (std::find(kBoxWallNames.begin(), kBoxWallNames.end(), w.name) != kBoxWallNames.end()) {
       r.fail("name", "is the name of a box face; choose another");
     }

@@ -11,8 +11,9 @@ namespace granular {
 
 /// The walls in file order (none without the array). Names must be unique and differ from the
 /// box's face names. A mesh whose size is out of all proportion to the box (its file in other
-/// units than its `scale` says) is refused.
+/// units than its `scale` says) is refused, as is a wall's friction > 0 with frictionless
+/// particles (`material`).
 std::vector<Wall> readWalls(const TomlTableReader& root, const std::string& file,
-                            const BoxSpec& box);
+                            const BoxSpec& box, const Material& material);
 
 }  // namespace granular

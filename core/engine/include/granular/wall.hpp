@@ -4,6 +4,7 @@
 /// from either side, each giving a particle at most one contact: with its closest point.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "granular/vec3.hpp"
@@ -54,6 +55,10 @@ struct Wall {
   /// step's bound (a shape turning about its own axis of symmetry moves no surface). The
   /// neighbour list is rebuilt when it has grown by the skin.
   double travel = 0;
+  /// The Coulomb coefficient of the particles' contacts with this wall, μ_w [-], when it is
+  /// not the particles' own (every other value of the contact law is the particles'). A
+  /// wall's friction > 0 needs frictional particles.
+  std::optional<double> friction = std::nullopt;
   /// A mesh wall's triangles (shared by copies of the state; posed anew when it moves).
   std::shared_ptr<const WallMesh> mesh = nullptr;
 
