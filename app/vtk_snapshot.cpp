@@ -21,6 +21,7 @@
 #include "granular/stress.hpp"
 #include "granular/wall_mesh.hpp"
 #include "vtk_xml_file.hpp"
+#include "wall_cell_loads.hpp"
 
 namespace granular::app {
 
@@ -130,11 +131,19 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
   reaction->SetNumberOfComponents(3);
   velocity->SetName("velocity_m_s");
   velocity->SetNumberOfComponents(3);
+  vtkNew<vtkDoubleArray> cellForce, pressure, shear;
+  cellForce->SetName("force_N");
+  cellForce->SetNumberOfComponents(3);
+  pressure->SetName("pressure_Pa");
+  shear->SetName("shear_Pa");
   vtkNew<vtkIntArray> index;
   index->SetName("wall");
+  const std::vector<std::vector<Vec3>> loads = wallCellForces(sim);
   for (std::size_t w = 0; w < sim.walls().size(); ++w) {
     const Wall& wall = sim.walls()[w];
-    // Each wall's cells carry its reaction, velocity and index.
+    // Each wall's cells carry its reaction, velocity and index, and each its own load: the
+    // particles' force on it, and that force's normal and tangential parts over its area.
+    std::size_t cell = 0;
     auto addCell = [&](std::initializer_list<Vec3> corners) {
       std::vector<vtkIdType> ids;
       for (const Vec3& x : corners) ids.push_back(points->InsertNextPoint(x.x(), x.y(), x.z()));
@@ -142,6 +151,17 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
       reaction->InsertNextTuple3(wall.reaction.x(), wall.reaction.y(), wall.reaction.z());
       velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
       index->InsertNextValue(int(w));
+      // Newell's vector: the polygon's normal times twice its area.
+      Vec3 twiceArea = Vec3::Zero();
+      const std::vector<Vec3> c(corners);
+      for (std::size_t k = 0; k < c.size(); ++k) twiceArea += c[k].cross(c[(k + 1) % c.size()]);
+      const double area = 0.5 * twiceArea.norm();
+      const Vec3 f = loads[w][cell++];
+      const Vec3 n = area > 0.0 ? Vec3(twiceArea.normalized()) : wall.normal;
+      const double normal = f.dot(n);
+      cellForce->InsertNextTuple3(f.x(), f.y(), f.z());
+      pressure->InsertNextValue(area > 0.0 ? std::abs(normal) / area : 0.0);
+      shear->InsertNextValue(area > 0.0 ? (f - normal * n).norm() / area : 0.0);
     };
     if (wall.shape == WallShape::Mesh) {
       const TriangleMesh& mesh = wall.mesh->world;
@@ -158,11 +178,8 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
     }
     if (wall.shape == WallShape::Frustum) {
       // Facets between the start circle and the end circle (a triangle where a radius is 0).
-      constexpr int kFacets = 48;
-      const Vec3 e1 = (std::abs(wall.normal.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY())
-                          .cross(wall.normal)
-                          .normalized();
-      const Vec3 e2 = wall.normal.cross(e1);
+      constexpr int kFacets = kFrustumFacets;
+      const auto [e1, e2] = frustumBasis(wall);
       const Vec3 end = wall.point + wall.length * wall.normal;
       auto around = [&](int k) {
         const double angle = 2.0 * std::numbers::pi * k / kFacets;
@@ -207,6 +224,9 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
   poly->GetCellData()->AddArray(reaction);
   poly->GetCellData()->AddArray(velocity);
   poly->GetCellData()->AddArray(index);
+  poly->GetCellData()->AddArray(cellForce);
+  poly->GetCellData()->AddArray(pressure);
+  poly->GetCellData()->AddArray(shear);
   write(file, poly);
 }
 

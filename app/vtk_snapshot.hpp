@@ -7,8 +7,12 @@
 /// Eq. (1) over the particle's own volume, granular::particleStresses). Contacts (one line
 /// cell each: centre to centre for a particle pair, counted once; centre to the contact point
 /// for a wall): normal_force_N, tangential_force_N (vectors, on the first particle),
-/// normal_force_magnitude_N, wall (-1 for a pair, else the wall's index). Walls (one quad
-/// each, spanning the box): reaction_N (the particles' push on the wall), velocity_m_s, wall.
+/// normal_force_magnitude_N, wall (-1 for a pair, else the wall's index). Walls (an infinite
+/// plane: one quad spanning the box; a rectangle: its quad; a frustum: 48 facets around its
+/// axis; a mesh: its triangles), per cell: reaction_N (the particles' push on the whole wall),
+/// velocity_m_s, wall, and the cell's own load (wall_cell_loads.hpp): force_N (the particles'
+/// push on the cell), pressure_Pa and shear_Pa (its normal and tangential parts over the
+/// cell's area, the normal part's magnitude: shells are touched from either side).
 #include <filesystem>
 #include <vector>
 

@@ -16,8 +16,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
+#include <numbers>
 
 #include "granular/stress.hpp"
+#include "granular/wall_mesh.hpp"
+#include "mesh_fixtures.hpp"
 #include "physics_fixtures.hpp"
 #include "vtk_output.hpp"
 #include "vtk_snapshot.hpp"
@@ -250,6 +254,84 @@ TEST(VtkSnapshot, ShellWallsAreFacetedOnTheirSurfaces) {
       double x[3];
       walls->GetPoint(ids->GetId(k), x);
       EXPECT_TRUE(onSurface(w, Vec3(x[0], x[1], x[2]))) << w.name << " cell " << c;
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(VtkSnapshot, EachWallCellCarriesTheLoadOfTheContactsOnIt) {
+  // Still spheres pressed into a meshed floor of 4 × 4 squares (32 triangles), inside one
+  // triangle, and into a cylinder about z at the angle 100° from x (between two facets' corners).
+  // The cell under each contact carries the particles' push on it, −F, and |F·n|/area as
+  // pressure; every other cell carries nothing; each wall's cells sum to its reaction.
+  const double r = 0.03, h = 1e-4;
+  const TriangleMesh grid = granular::testing::flatGrid(4, 1.0);
+  Wall floor;
+  floor.name = "floor";
+  floor.shape = WallShape::Mesh;
+  floor.mesh = poseMesh(std::make_shared<const TriangleMesh>(grid), Vec3::Zero(), Vec3::UnitZ(),
+                        Vec3::UnitX());
+  Wall tube;
+  tube.name = "tube";
+  tube.shape = WallShape::Frustum;
+  tube.point = Vec3(2.0, 0.0, 0.0);
+  tube.normal = Vec3::UnitZ();
+  tube.length = 1.0;
+  tube.radiusStart = tube.radiusEnd = 0.4;
+  tube.pivot = tube.point;
+  // Triangle 2·(4·2 + 1) + 1, the upper one of square (1, 2): corners (0.25, 0.5),
+  // (0.5, 0.75), (0.25, 0.75); its centroid.
+  const std::size_t onFloor = 2 * (4 * 2 + 1) + 1;
+  const Vec3 centroid = (Vec3(0.25, 0.5, 0) + Vec3(0.5, 0.75, 0) + Vec3(0.25, 0.75, 0)) / 3.0;
+  const double angle = 100.0 * std::numbers::pi / 180.0;
+  const Vec3 out(std::cos(angle), std::sin(angle), 0.0);
+  Particles p;
+  p.add(centroid + Vec3(0, 0, r - h), r, 500.0);
+  p.add(tube.point + Vec3(0, 0, 0.5) + (0.4 - r + h) * out, r, 500.0);
+  SimulationConfig cfg;
+  cfg.timeStep = 1e-5;
+  const Simulation sim(std::move(p), {floor, tube}, cfg);
+  const fs::path dir = fs::temp_directory_path() / "granular_vtk_cell_loads";
+  fs::create_directories(dir);
+  app::writeWallsVtp(dir / "walls.vtp", sim, Vec3::Zero(), Vec3::Ones());
+  const auto walls = readVtp(dir / "walls.vtp");
+  vtkDataArray* force = walls->GetCellData()->GetArray("force_N");
+  vtkDataArray* pressure = walls->GetCellData()->GetArray("pressure_Pa");
+  vtkDataArray* shear = walls->GetCellData()->GetArray("shear_Pa");
+  ASSERT_TRUE(force && pressure && shear);
+  ASSERT_EQ(walls->GetNumberOfPolys(), 32 + 48);
+  const double push = sim.config().material.normalCoefficient() * r * h;  // |F| [N]
+  // The tube's facet under the contact: the one whose corners' centroid is nearest it.
+  const Vec3 contact = tube.point + Vec3(0, 0, 0.5) + 0.4 * out;
+  vtkIdType tubeCell = -1;
+  double nearest = 1e300;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 32; c < walls->GetNumberOfPolys(); ++c) {
+    walls->GetCellPoints(c, ids);
+    Vec3 centre = Vec3::Zero();
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      double x[3];
+      walls->GetPoint(ids->GetId(k), x);
+      centre += Vec3(x[0], x[1], x[2]) / double(ids->GetNumberOfIds());
+    }
+    if ((centre - contact).norm() < nearest) {
+      nearest = (centre - contact).norm();
+      tubeCell = c;
+    }
+  }
+  const vtkIdType floorCell = vtkIdType(onFloor);
+  for (vtkIdType c = 0; c < walls->GetNumberOfPolys(); ++c) {
+    const Vec3 f = tuple3(force, c);
+    if (c == floorCell) {
+      EXPECT_LT((f - Vec3(0, 0, -push)).norm(), 1e-9 * push);
+      EXPECT_NEAR(pressure->GetTuple1(c), push / (0.5 * 0.25 * 0.25), 1e-9 * push / 0.03);
+    } else if (c == tubeCell) {
+      EXPECT_LT((f - push * out).norm(), 1e-9 * push);
+      EXPECT_GT(pressure->GetTuple1(c), 0.0);
+      EXPECT_LT(shear->GetTuple1(c), 0.2 * pressure->GetTuple1(c));  // the facet leans 3.75°
+    } else {
+      EXPECT_EQ(f, Vec3::Zero()) << "cell " << c;
+      EXPECT_EQ(pressure->GetTuple1(c), 0.0) << "cell " << c;
     }
   }
   fs::remove_all(dir);

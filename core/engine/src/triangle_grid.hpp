@@ -41,6 +41,7 @@ struct MeshNearest {
   double distance = 0;
   Vec3 normal = Vec3::UnitZ();
   Vec3 point = Vec3::Zero();
+  std::uint32_t triangle = 0;  ///< the triangle the point is on (the lowest index of a tie)
 };
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x);
@@ -79,7 +80,7 @@ MeshNearest nearestAmong(const TriangleMesh& mesh, const MeshTopology& topology,
       best.distance = distance;
       best.point = touch.point;
       best.normal = distance > 0.0 ? Vec3(d / distance) : topology.normal[t];
-      bestTriangle = t;
+      best.triangle = bestTriangle = t;
     }
   }
   return best;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "triangle_grid.hpp"
+
 namespace granular {
 
 std::shared_ptr<const WallMesh> poseMesh(std::shared_ptr<const TriangleMesh> body,
@@ -20,6 +22,19 @@ std::shared_ptr<const WallMesh> poseMesh(std::shared_ptr<const TriangleMesh> bod
   mesh->topology = meshTopology(mesh->world, false, defects);
   mesh->body = std::move(body);
   return mesh;
+}
+
+std::vector<std::uint32_t> nearestTriangles(const WallMesh& mesh, std::span<const Vec3> points,
+                                            double reach) {
+  std::vector<std::uint32_t> nearest(points.size(), kNoTriangle);
+  if (points.empty() || mesh.world.triangle.empty() || !(reach > 0.0)) return nearest;
+  const TriangleGrid grid = binTriangles(mesh.world, reach, reach);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const MeshNearest found =
+        nearestAmong(mesh.world, mesh.topology, grid.near(points[k]), points[k]);
+    if (found.distance <= reach) nearest[k] = found.triangle;
+  }
+  return nearest;
 }
 
 }  // namespace granular
