@@ -1,5 +1,6 @@
 #include "figure_export.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "granular/render/particle_figure.hpp"
@@ -53,6 +54,10 @@ std::vector<fs::path> exportFigures(const Snapshot& snap, const fs::path& folder
   const LiveSeries& s = snap.series;
   auto plot = [&](const std::string& file, const std::string& title, const std::string& yLabel,
                   std::vector<Series> series) {
+    // A series without points is one the scene does not have (the box's, in a silo).
+    if (std::all_of(series.begin(), series.end(), [](const Series& s) { return s.y.empty(); })) {
+      return;
+    }
     render::PlotSpec p;
     p.title = title;
     p.xLabel = snap.stage == 2 ? "t (stage 2) [s]" : "t [s]";

@@ -342,6 +342,7 @@ void plotsPanel(const Snapshot& snap, float x, float y, float width, float heigh
     const std::vector<float>& v = *plots[k].values;
     char overlay[64] = "";
     if (!v.empty()) std::snprintf(overlay, sizeof overlay, "%.4g", double(v.back()));
+    if (v.empty() && !s.time.empty()) std::snprintf(overlay, sizeof overlay, "no box walls");
     ImGui::TextUnformatted(plots[k].title);
     ImGui::PushID(k);
     ImGui::PlotLines("##plot", v.data(), int(v.size()), 0, overlay, FLT_MAX, FLT_MAX,
