@@ -5,6 +5,7 @@
 
 #include "granular/render/particle_figure.hpp"
 #include "granular/render/plot.hpp"
+#include "wall_drawing.hpp"
 
 namespace granular::gui {
 
@@ -40,6 +41,9 @@ std::vector<fs::path> exportFigures(const Snapshot& snap, const fs::path& folder
   spec.boxMax = snap.boxMax;
   if (snap.topWallZ) spec.boxMax.z() = *snap.topWallZ;
   spec.openTop = !snap.topWallZ;
+  const WallDrawing walls = wallDrawing(snap.walls);
+  spec.surfaces = walls.triangles;
+  spec.outlines = walls.outlines;
   spec.values = snap.forceSum;
   spec.title = "Σ|F_ij| per particle, " + when;
   spec.colorBarTitle = "Σ|F_ij| [N]";

@@ -311,6 +311,7 @@ void SimRunner::publish() {
   }
   s.boxMin = scene_.box.min;
   s.boxMax = scene_.box.max;
+  s.walls = sim.walls();
   if (const long top = sim.findWall("top"); top >= 0) {
     s.topWallZ = sim.walls()[std::size_t(top)].point.z();
   }

@@ -70,6 +70,8 @@ struct Snapshot {
   /// output.energy_drift_limit, particles outside the box) found since the start or the last
   /// load, oldest first; each check is reported once.
   std::vector<std::string> failedChecks;
+  /// Every wall where the run has it now (the view draws all but the infinite planes).
+  std::vector<Wall> walls;
 };
 
 class SimRunner {
