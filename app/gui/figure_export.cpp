@@ -1,9 +1,11 @@
 #include "figure_export.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "granular/render/particle_figure.hpp"
 #include "granular/render/plot.hpp"
+#include "wall_drawing.hpp"
 
 namespace granular::gui {
 
@@ -39,6 +41,9 @@ std::vector<fs::path> exportFigures(const Snapshot& snap, const fs::path& folder
   spec.boxMax = snap.boxMax;
   if (snap.topWallZ) spec.boxMax.z() = *snap.topWallZ;
   spec.openTop = !snap.topWallZ;
+  const WallDrawing walls = wallDrawing(snap.walls);
+  spec.surfaces = walls.triangles;
+  spec.outlines = walls.outlines;
   spec.values = snap.forceSum;
   spec.title = "Σ|F_ij| per particle, " + when;
   spec.colorBarTitle = "Σ|F_ij| [N]";
@@ -53,6 +58,10 @@ std::vector<fs::path> exportFigures(const Snapshot& snap, const fs::path& folder
   const LiveSeries& s = snap.series;
   auto plot = [&](const std::string& file, const std::string& title, const std::string& yLabel,
                   std::vector<Series> series) {
+    // A series without points is one the scene does not have (the box's, in a silo).
+    if (std::all_of(series.begin(), series.end(), [](const Series& s) { return s.y.empty(); })) {
+      return;
+    }
     render::PlotSpec p;
     p.title = title;
     p.xLabel = snap.stage == 2 ? "t (stage 2) [s]" : "t [s]";

@@ -18,6 +18,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "controls_layout.hpp"
@@ -31,6 +32,7 @@
 #include "orbit_camera.hpp"
 #include "sim_runner.hpp"
 #include "status_line.hpp"
+#include "wall_drawing.hpp"
 
 namespace fs = std::filesystem;
 using namespace granular;
@@ -342,6 +344,7 @@ void plotsPanel(const Snapshot& snap, float x, float y, float width, float heigh
     const std::vector<float>& v = *plots[k].values;
     char overlay[64] = "";
     if (!v.empty()) std::snprintf(overlay, sizeof overlay, "%.4g", double(v.back()));
+    if (v.empty() && !s.time.empty()) std::snprintf(overlay, sizeof overlay, "no box walls");
     ImGui::TextUnformatted(plots[k].title);
     ImGui::PushID(k);
     ImGui::PlotLines("##plot", v.data(), int(v.size()), 0, overlay, FLT_MAX, FLT_MAX,
@@ -558,6 +561,8 @@ int runWindow(const GuiOptions& options) {
     std::uint64_t uploaded = 0;
     Colouring uploadedColouring = ui.colouring;
     double barBottom = 0, barTop = 0;
+    // What the camera frames: the box and the walls as last uploaded.
+    Vec3 viewMin = snap.boxMin, viewMax = snap.boxMax;
     long frame = 0;
     auto fpsStart = std::chrono::steady_clock::now();
     long fpsFrames = 0;
@@ -609,10 +614,16 @@ int runWindow(const GuiOptions& options) {
         scene.radii = snap.radii;
         scene.colours = c;
         scene.lines = render::boxEdges(snap.boxMin, boxTop, !snap.topWallZ);
+        // The walls where the run has them now: a stage may move them.
+        const WallDrawing walls = wallDrawing(snap.walls);
+        scene.surfaces = walls.triangles;
+        scene.outlines = walls.outlines;
+        std::tie(viewMin, viewMax) =
+            render::boundsWith(snap.boxMin, boxTop, walls.triangles, walls.outlines);
         if (!ui.viewRequest.empty()) {  // offscreen, supersampled, as the figures are drawn
           const int w = std::max(2, int(2 * viewW)), h = std::max(2, int(2 * viewH));
           render::writePng(
-              renderer.render(scene, ui.orbit.camera(snap.boxMin, boxTop, double(w) / h), w, h),
+              renderer.render(scene, ui.orbit.camera(viewMin, viewMax, double(w) / h), w, h),
               ui.viewRequest);
           ui.viewRequest.clear();
         }
@@ -634,7 +645,7 @@ int runWindow(const GuiOptions& options) {
       gl.enable(kScissorTest);
       gl.clearColor(1.0f, 1.0f, 1.0f, 1.0f);
       gl.clear(kColorBufferBit | kDepthBufferBit);
-      renderer.draw(ui.orbit.camera(snap.boxMin, boxTop, double(vw) / vh), vw, vh, scale);
+      renderer.draw(ui.orbit.camera(viewMin, viewMax, double(vw) / vh), vw, vh, scale);
       gl.disable(kScissorTest);
       gl.viewport(0, 0, fbWidth, fbHeight);
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

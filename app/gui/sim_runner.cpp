@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <string_view>
 #include <utility>
 
 #include "granular/checkpoint.hpp"
@@ -24,6 +25,14 @@ void halve(std::vector<float>& v) {
   std::size_t k = 0;
   for (std::size_t i = 0; i < v.size(); i += 2) v[k++] = v[i];
   v.resize(k);
+}
+
+/// Whether `sim` has the walls that Eq. (1) and (2) measure a box by (measureBox): a scene with
+/// walls of its own instead (a silo, a drum) has no such box.
+bool hasBoxWalls(const Simulation& sim) {
+  return std::all_of(kBoxWallNames.begin(), kBoxWallNames.end(), [&](const char* name) {
+    return std::string_view(name) == "top" || sim.findWall(name) >= 0;
+  });
 }
 
 }  // namespace
@@ -302,6 +311,7 @@ void SimRunner::publish() {
   }
   s.boxMin = scene_.box.min;
   s.boxMax = scene_.box.max;
+  s.walls = sim.walls();
   if (const long top = sim.findWall("top"); top >= 0) {
     s.topWallZ = sim.walls()[std::size_t(top)].point.z();
   }
@@ -336,14 +346,16 @@ void SimRunner::publish() {
   // The plots: a sample at most every 1/400 of a simulated second.
   if (lastSample_ < 0 || s.time - lastSample_ >= 2.5e-3 || s.time < lastSample_) {
     lastSample_ = s.time;
-    const BoxStress box = measureBox(sim);
     series_.time.push_back(float(s.time));
     series_.kinetic.push_back(float(s.kinetic));
-    series_.topForce.push_back(float(box.topForce));
-    series_.bottomForce.push_back(float(box.bottomForce));
-    for (int a = 0; a < 3; ++a) {
-      series_.eq1[a].push_back(float(box.eq1(a, a)));
-      series_.eq2[a].push_back(float(box.eq2[a]));
+    if (hasBoxWalls(sim)) {  // without them, the box's series stay empty
+      const BoxStress box = measureBox(sim);
+      series_.topForce.push_back(float(box.topForce));
+      series_.bottomForce.push_back(float(box.bottomForce));
+      for (int a = 0; a < 3; ++a) {
+        series_.eq1[a].push_back(float(box.eq1(a, a)));
+        series_.eq2[a].push_back(float(box.eq2[a]));
+      }
     }
     if (series_.time.size() >= LiveSeries::kMaxPoints) {
       for (std::vector<float>* v :

@@ -20,7 +20,8 @@
 namespace granular::gui {
 
 /// Time series for the live plots, sampled at most every `interval` of simulated time and
-/// halved (every other point kept) when they reach `kMaxPoints`.
+/// halved (every other point kept) when they reach `kMaxPoints`. The box's series (reactions,
+/// Eq. (1) and (2)) stay empty in a scene without the box's walls.
 struct LiveSeries {
   static constexpr std::size_t kMaxPoints = 4000;
   std::vector<float> time;                   ///< [s]
@@ -69,6 +70,8 @@ struct Snapshot {
   /// output.energy_drift_limit, particles outside the box) found since the start or the last
   /// load, oldest first; each check is reported once.
   std::vector<std::string> failedChecks;
+  /// Every wall where the run has it now (the view draws all but the infinite planes).
+  std::vector<Wall> walls;
 };
 
 class SimRunner {

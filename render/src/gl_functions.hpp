@@ -23,6 +23,7 @@ namespace granular::render {
   X(BindRenderbuffer, BINDRENDERBUFFER)               \
   X(BindTexture, BINDTEXTURE)                         \
   X(BindVertexArray, BINDVERTEXARRAY)                 \
+  X(BlendFuncSeparate, BLENDFUNCSEPARATE)             \
   X(BufferData, BUFFERDATA)                           \
   X(CheckFramebufferStatus, CHECKFRAMEBUFFERSTATUS)   \
   X(Clear, CLEAR)                                     \

@@ -1,5 +1,5 @@
 /// The 3-D particle figure (particle_figure.hpp): layout of title, view and colour bar, the view
-/// rendered by ParticleRenderer and blitted into a 2-D canvas.
+/// rendered by ParticleRenderer (the walls' surfaces with it) and blitted into a 2-D canvas.
 #include "granular/render/particle_figure.hpp"
 
 #include <algorithm>
@@ -64,8 +64,13 @@ Image FigureRenderer::particleFigure(const ParticleFigureSpec& spec) {
   scene.lines = boxEdges(spec.boxMin, spec.boxMax, spec.openTop);
   scene.lineWidth = std::max(1.0, style.px(1.5));
   scene.background = style.background;
-  const Camera camera = fitCamera(spec.boxMin, spec.boxMax, spec.azimuthDeg, spec.elevationDeg,
-                                  30.0, double(viewWidth) / viewHeight, 0.04);
+  scene.surfaces = spec.surfaces;
+  scene.outlines = spec.outlines;
+  // Without walls this is the box itself, and the figure frames exactly as it always has.
+  const auto [framedMin, framedMax] =
+      boundsWith(spec.boxMin, spec.boxMax, spec.surfaces, spec.outlines);
+  const Camera camera = fitCamera(framedMin, framedMax, spec.azimuthDeg, spec.elevationDeg, 30.0,
+                                  double(viewWidth) / viewHeight, 0.04);
   canvas.blit(impl_->spheres.render(scene, camera, viewWidth, viewHeight), Point{view.x, view.y});
   return canvas.takeImage();
 }

@@ -1,10 +1,13 @@
 /// The 3-D particle view (particle_view.hpp).
 ///
 /// Sections:
-///   1. Camera maths     view and projection matrices, fitCamera, projectToPixel, boxEdges
-///   2. Shaders          sphere impostors, screen-space lines, the supersampling box filter
+///   1. Camera maths     view and projection matrices, fitCamera, projectToPixel, boxEdges,
+///                       boundsWith
+///   2. Shaders          sphere impostors, screen-space lines, translucent surfaces, the
+///                       supersampling box filter
 ///   3. GL objects       programs, buffers, framebuffers (the Impl)
-///   4. Upload and draw  instance data, near/far planes, the two draw calls
+///   4. Upload and draw  instance data, near/far planes, the draw calls (spheres, lines, the
+///                       surfaces sorted back to front, outlines)
 ///   5. render()         offscreen framebuffer, downsampling, readback
 #include "granular/render/particle_view.hpp"
 
@@ -19,6 +22,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "gl_functions.hpp"
 
@@ -109,6 +113,23 @@ std::vector<Segment> boxEdges(const Vec3& boxMin, const Vec3& boxMax, bool openT
     }
   }
   return edges;
+}
+
+std::pair<Vec3, Vec3> boundsWith(const Vec3& boxMin, const Vec3& boxMax,
+                                 std::span<const Triangle> surfaces,
+                                 std::span<const Segment> outlines) {
+  Vec3 lo = boxMin, hi = boxMax;
+  for (const Triangle& t : surfaces) {
+    for (const Vec3& corner : t) {
+      lo = lo.cwiseMin(corner);
+      hi = hi.cwiseMax(corner);
+    }
+  }
+  for (const auto& [a, b] : outlines) {
+    lo = lo.cwiseMin(a).cwiseMin(b);
+    hi = hi.cwiseMax(a).cwiseMax(b);
+  }
+  return {lo, hi};
 }
 
 Camera fitCamera(const Vec3& boxMin, const Vec3& boxMax, double azimuthDeg, double elevationDeg,
@@ -301,6 +322,48 @@ out vec4 fragColour;
 void main() { fragColour = uColour; }
 )";
 
+/// Translucent surfaces: plain triangles, one flat normal per triangle (world minus origin).
+/// Each corner is drawn a thousandth of its distance nearer the eye, which moves it along its
+/// own ray (the same pixel) and only changes its depth: a sphere pressing slightly into a wall,
+/// as a settled bed does, stays behind it instead of poking through as a spot of untinted
+/// colour.
+constexpr const char* kSurfaceVertex = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;  // [m]
+layout(location = 1) in vec3 aNormal;    // unit, the triangle's
+uniform mat4 uView;
+uniform mat4 uProjection;
+out vec3 vPoint;   // view space
+out vec3 vNormal;  // view space
+void main() {
+  vec4 p = uView * vec4(aPosition, 1.0);
+  p.xyz *= 0.999;
+  vPoint = p.xyz;
+  vNormal = mat3(uView) * aNormal;
+  gl_Position = uProjection * p;
+}
+)";
+
+/// Surfaces, fragment stage: both sides lit alike by the spheres' light (a wall has no
+/// outside), dimmer where it faces away from it, so that the facets of a curved wall differ in
+/// brightness. The opacity grows towards grazing views: a cylinder is fainter face-on in its
+/// middle than near its silhouette, as a glass tube looks, and its outline reads as a curve.
+constexpr const char* kSurfaceFragment = R"(#version 330 core
+in vec3 vPoint;
+in vec3 vNormal;
+uniform vec4 uColour;  // RGBA, normalised; alpha = face-on opacity
+out vec4 fragColour;
+const vec3 kLight = normalize(vec3(-0.3, 0.4, 1.0));
+void main() {
+  vec3 n = normalize(vNormal);
+  float facing = abs(dot(n, normalize(-vPoint)));
+  float lit = abs(dot(n, kLight));
+  vec3 rgb = uColour.rgb * (0.6 + 0.4 * lit);
+  float grazing = 1.0 - facing;
+  float alpha = uColour.a + (1.0 - uColour.a) * 0.5 * grazing * grazing * grazing;
+  fragColour = vec4(rgb, alpha);
+}
+)";
+
 /// Full-screen triangle (no vertex buffer: positions from gl_VertexID).
 constexpr const char* kFullScreenVertex = R"(#version 330 core
 void main() {
@@ -346,6 +409,20 @@ struct LineInstance {
   float from[3], to[3];  // [m], relative to the scene origin
 };
 static_assert(sizeof(LineInstance) == 24);
+
+/// One corner of a surface triangle, with the triangle's normal.
+struct SurfaceVertex {
+  float position[3];  // [m], relative to the scene origin
+  float normal[3];
+};
+static_assert(sizeof(SurfaceVertex) == 24);
+
+/// A surface triangle as uploaded: corners relative to the scene origin [m], unit normal
+/// (zero for a degenerate triangle, which covers no pixel).
+struct SurfaceTriangle {
+  Vec3 corner[3];
+  Vec3 normal;
+};
 
 GLuint compileShader(const GlFunctions& gl, GLenum type, const char* source, const char* what) {
   const GLuint shader = gl.CreateShader(type);
@@ -400,13 +477,15 @@ Eigen::Matrix4f toFloat(const Mat4& m) {
 struct ParticleRenderer::Impl {
   GlFunctions gl;
 
-  GLuint sphereProgram = 0, lineProgram = 0, downsampleProgram = 0;
+  GLuint sphereProgram = 0, lineProgram = 0, surfaceProgram = 0, downsampleProgram = 0;
   GLint sphereView = -1, sphereProjection = -1, sphereDepth = -1;
   GLint lineView = -1, lineProjection = -1, lineViewport = -1, lineHalfWidth = -1, lineNear = -1,
         lineColour = -1;
+  GLint surfaceView = -1, surfaceProjection = -1, surfaceColour = -1;
   GLint downsampleSource = -1, downsampleFactor = -1;
 
-  GLuint sphereVao = 0, sphereVbo = 0, lineVao = 0, lineVbo = 0, emptyVao = 0;
+  GLuint sphereVao = 0, sphereVbo = 0, lineVao = 0, lineVbo = 0, outlineVao = 0, outlineVbo = 0,
+         surfaceVao = 0, surfaceVbo = 0, emptyVao = 0;
 
   // Offscreen targets: the supersampled colour texture + depth, and the output-size colour.
   GLuint sceneFbo = 0, sceneColour = 0, sceneDepth = 0;
@@ -415,13 +494,16 @@ struct ParticleRenderer::Impl {
   int outputWidth = 0, outputHeight = 0;
 
   // The uploaded scene.
-  GLsizei sphereCount = 0, lineCount = 0;
+  GLsizei sphereCount = 0, lineCount = 0, outlineCount = 0;
   Vec3 origin = Vec3::Zero();  // subtracted from every position before conversion to float
   Vec3 boundsMin = Vec3::Zero(), boundsMax = Vec3::Zero();
-  Rgba lineRgba{};
+  Rgba lineRgba{}, outlineRgba{}, surfaceRgba{};
   double lineWidth = 0.0;
   std::vector<SphereInstance> sphereStaging;
   std::vector<LineInstance> lineStaging;
+  std::vector<SurfaceTriangle> surfaceTriangles;  // sorted anew for each camera
+  std::vector<std::pair<double, std::size_t>> surfaceOrder;
+  std::vector<SurfaceVertex> surfaceStaging;
 
   explicit Impl(GlProcLoader loader) : gl(loader) {
     try {
@@ -437,6 +519,7 @@ struct ParticleRenderer::Impl {
   void create() {
     sphereProgram = linkProgram(gl, kSphereVertex, kSphereFragment, "sphere");
     lineProgram = linkProgram(gl, kLineVertex, kLineFragment, "line");
+    surfaceProgram = linkProgram(gl, kSurfaceVertex, kSurfaceFragment, "surface");
     downsampleProgram = linkProgram(gl, kFullScreenVertex, kDownsampleFragment, "downsample");
     sphereView = gl.GetUniformLocation(sphereProgram, "uView");
     sphereProjection = gl.GetUniformLocation(sphereProgram, "uProjection");
@@ -447,6 +530,9 @@ struct ParticleRenderer::Impl {
     lineHalfWidth = gl.GetUniformLocation(lineProgram, "uHalfWidth");
     lineNear = gl.GetUniformLocation(lineProgram, "uNear");
     lineColour = gl.GetUniformLocation(lineProgram, "uColour");
+    surfaceView = gl.GetUniformLocation(surfaceProgram, "uView");
+    surfaceProjection = gl.GetUniformLocation(surfaceProgram, "uProjection");
+    surfaceColour = gl.GetUniformLocation(surfaceProgram, "uColour");
     downsampleSource = gl.GetUniformLocation(downsampleProgram, "uSource");
     downsampleFactor = gl.GetUniformLocation(downsampleProgram, "uFactor");
 
@@ -463,17 +549,31 @@ struct ParticleRenderer::Impl {
                            reinterpret_cast<const void*>(offsetof(SphereInstance, rgba)));
     gl.VertexAttribDivisor(1, 1);
 
-    gl.GenVertexArrays(1, &lineVao);
-    gl.GenBuffers(1, &lineVbo);
-    gl.BindVertexArray(lineVao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, lineVbo);
+    // Lines and outlines: the same layout, one instance per segment.
+    for (auto [vao, vbo] : {std::pair{&lineVao, &lineVbo}, std::pair{&outlineVao, &outlineVbo}}) {
+      gl.GenVertexArrays(1, vao);
+      gl.GenBuffers(1, vbo);
+      gl.BindVertexArray(*vao);
+      gl.BindBuffer(GL_ARRAY_BUFFER, *vbo);
+      gl.EnableVertexAttribArray(0);
+      gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(LineInstance), nullptr);
+      gl.VertexAttribDivisor(0, 1);
+      gl.EnableVertexAttribArray(1);
+      gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(LineInstance),
+                             reinterpret_cast<const void*>(offsetof(LineInstance, to)));
+      gl.VertexAttribDivisor(1, 1);
+    }
+
+    // Surfaces: plain vertices, position and normal.
+    gl.GenVertexArrays(1, &surfaceVao);
+    gl.GenBuffers(1, &surfaceVbo);
+    gl.BindVertexArray(surfaceVao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, surfaceVbo);
     gl.EnableVertexAttribArray(0);
-    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(LineInstance), nullptr);
-    gl.VertexAttribDivisor(0, 1);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(SurfaceVertex), nullptr);
     gl.EnableVertexAttribArray(1);
-    gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(LineInstance),
-                           reinterpret_cast<const void*>(offsetof(LineInstance, to)));
-    gl.VertexAttribDivisor(1, 1);
+    gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(SurfaceVertex),
+                           reinterpret_cast<const void*>(offsetof(SurfaceVertex, normal)));
 
     // The core profile draws nothing without a bound vertex array, even attribute-less.
     gl.GenVertexArrays(1, &emptyVao);
@@ -485,15 +585,17 @@ struct ParticleRenderer::Impl {
   /// Deletes every GL object (names still 0 are ignored by GL).
   void release() {
     releaseTargets();
-    const GLuint vaos[] = {sphereVao, lineVao, emptyVao};
-    gl.DeleteVertexArrays(3, vaos);
-    const GLuint buffers[] = {sphereVbo, lineVbo};
-    gl.DeleteBuffers(2, buffers);
+    const GLuint vaos[] = {sphereVao, lineVao, outlineVao, surfaceVao, emptyVao};
+    gl.DeleteVertexArrays(5, vaos);
+    const GLuint buffers[] = {sphereVbo, lineVbo, outlineVbo, surfaceVbo};
+    gl.DeleteBuffers(4, buffers);
     gl.DeleteProgram(sphereProgram);
     gl.DeleteProgram(lineProgram);
+    gl.DeleteProgram(surfaceProgram);
     gl.DeleteProgram(downsampleProgram);
-    sphereVao = lineVao = emptyVao = sphereVbo = lineVbo = 0;
-    sphereProgram = lineProgram = downsampleProgram = 0;
+    sphereVao = lineVao = outlineVao = surfaceVao = emptyVao = 0;
+    sphereVbo = lineVbo = outlineVbo = surfaceVbo = 0;
+    sphereProgram = lineProgram = surfaceProgram = downsampleProgram = 0;
   }
 
   void checkError(const char* when) const {
@@ -597,9 +699,11 @@ struct ParticleRenderer::Impl {
       throw std::invalid_argument("ParticleScene: " + std::to_string(scene.colours.size()) +
                                   " colours for " + std::to_string(n) + " centres");
     }
-    if (n > std::size_t(std::numeric_limits<GLsizei>::max()) ||
-        scene.lines.size() > std::size_t(std::numeric_limits<GLsizei>::max())) {
-      throw std::invalid_argument("ParticleScene: too many spheres or lines for one draw call");
+    constexpr std::size_t kMaxDraw = std::size_t(std::numeric_limits<GLsizei>::max());
+    if (n > kMaxDraw || scene.lines.size() > kMaxDraw || scene.outlines.size() > kMaxDraw ||
+        scene.surfaces.size() > kMaxDraw / 3) {
+      throw std::invalid_argument(
+          "ParticleScene: too many spheres, lines or surfaces for one draw call");
     }
 
     // Bounds of everything drawn: the origin for single precision, and the near/far planes.
@@ -614,9 +718,15 @@ struct ParticleRenderer::Impl {
       lo = lo.cwiseMin(a).cwiseMin(b);
       hi = hi.cwiseMax(a).cwiseMax(b);
     }
+    // Surfaces widen the bounds only when there are some: a scene without them keeps the
+    // origin and depth range, and so its image, bit for bit.
+    if (!scene.surfaces.empty() || !scene.outlines.empty()) {
+      std::tie(lo, hi) = boundsWith(lo, hi, scene.surfaces, scene.outlines);
+    }
     if (!(lo.array() <= hi.array()).all()) lo = hi = Vec3::Zero();  // empty scene
     if (!lo.allFinite() || !hi.allFinite()) {
-      throw std::invalid_argument("ParticleScene: non-finite centre, radius or line end");
+      throw std::invalid_argument(
+          "ParticleScene: non-finite centre, radius, line end or surface corner");
     }
     boundsMin = lo;
     boundsMax = hi;
@@ -633,25 +743,68 @@ struct ParticleRenderer::Impl {
                           float(std::abs(scene.radii[i])),
                           {colour.r, colour.g, colour.b, 255}};
     }
-    lineStaging.resize(scene.lines.size());
-    for (std::size_t i = 0; i < scene.lines.size(); ++i) {
-      const Vec3 a = scene.lines[i].first - origin, b = scene.lines[i].second - origin;
-      lineStaging[i] = {{float(a.x()), float(a.y()), float(a.z())},
-                        {float(b.x()), float(b.y()), float(b.z())}};
+    uploadSegments(scene.lines, lineVbo);
+    uploadSegments(scene.outlines, outlineVbo);
+    surfaceTriangles.resize(scene.surfaces.size());
+    for (std::size_t i = 0; i < scene.surfaces.size(); ++i) {
+      SurfaceTriangle& t = surfaceTriangles[i];
+      for (int k = 0; k < 3; ++k) t.corner[k] = scene.surfaces[i][std::size_t(k)] - origin;
+      const Vec3 n = (t.corner[1] - t.corner[0]).cross(t.corner[2] - t.corner[0]);
+      t.normal = n.norm() > 0.0 ? Vec3(n.normalized()) : Vec3::Zero();
     }
 
     gl.BindBuffer(GL_ARRAY_BUFFER, sphereVbo);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(SphereInstance)),
                   n ? sphereStaging.data() : nullptr, GL_STREAM_DRAW);
-    gl.BindBuffer(GL_ARRAY_BUFFER, lineVbo);
-    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(lineStaging.size() * sizeof(LineInstance)),
-                  lineStaging.empty() ? nullptr : lineStaging.data(), GL_STREAM_DRAW);
     gl.BindBuffer(GL_ARRAY_BUFFER, 0);
     sphereCount = GLsizei(n);
     lineCount = GLsizei(scene.lines.size());
+    outlineCount = GLsizei(scene.outlines.size());
     lineRgba = scene.lineColour;
+    outlineRgba = scene.outlineColour;
+    surfaceRgba = scene.surfaceColour;
     lineWidth = scene.lineWidth;
     checkError("uploading the scene");
+  }
+
+  /// Segments relative to the origin, into `vbo` (left bound).
+  void uploadSegments(std::span<const Segment> segments, GLuint vbo) {
+    lineStaging.resize(segments.size());
+    for (std::size_t i = 0; i < segments.size(); ++i) {
+      const Vec3 a = segments[i].first - origin, b = segments[i].second - origin;
+      lineStaging[i] = {{float(a.x()), float(a.y()), float(a.z())},
+                        {float(b.x()), float(b.y()), float(b.z())}};
+    }
+    gl.BindBuffer(GL_ARRAY_BUFFER, vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(lineStaging.size() * sizeof(LineInstance)),
+                  lineStaging.empty() ? nullptr : lineStaging.data(), GL_STREAM_DRAW);
+  }
+
+  /// The surface triangles back to front as `view` sees them (by the depth of their centroids,
+  /// ties by index, so that the order and the image do not depend on the sort), into the
+  /// surface buffer.
+  void uploadSortedSurfaces(const Mat4& view) {
+    const Eigen::RowVector3d depthRow = view.block<1, 3>(2, 0);
+    surfaceOrder.resize(surfaceTriangles.size());
+    for (std::size_t i = 0; i < surfaceTriangles.size(); ++i) {
+      const SurfaceTriangle& t = surfaceTriangles[i];
+      // View-space z is negative in front of the eye: the most negative is the farthest.
+      surfaceOrder[i] = {depthRow.dot(t.corner[0] + t.corner[1] + t.corner[2]), i};
+    }
+    std::sort(surfaceOrder.begin(), surfaceOrder.end());
+    surfaceStaging.resize(3 * surfaceTriangles.size());
+    for (std::size_t i = 0; i < surfaceOrder.size(); ++i) {
+      const SurfaceTriangle& t = surfaceTriangles[surfaceOrder[i].second];
+      for (int k = 0; k < 3; ++k) {
+        surfaceStaging[3 * i + std::size_t(k)] = {
+            {float(t.corner[k].x()), float(t.corner[k].y()), float(t.corner[k].z())},
+            {float(t.normal.x()), float(t.normal.y()), float(t.normal.z())}};
+      }
+    }
+    gl.BindBuffer(GL_ARRAY_BUFFER, surfaceVbo);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(surfaceStaging.size() * sizeof(SurfaceVertex)),
+                  surfaceStaging.data(), GL_STREAM_DRAW);
+    gl.BindBuffer(GL_ARRAY_BUFFER, 0);
   }
 
   void draw(const Camera& camera, int width, int height, double pixelScale) {
@@ -693,17 +846,39 @@ struct ParticleRenderer::Impl {
       gl.BindVertexArray(sphereVao);
       gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, sphereCount);
     }
-    if (lineCount > 0 && lineWidth > 0.0) {
+    auto drawSegments = [&](GLuint vao, GLsizei count, Rgba rgba) {
+      if (count == 0 || !(lineWidth > 0.0)) return;
       gl.UseProgram(lineProgram);
       gl.UniformMatrix4fv(lineView, 1, GL_FALSE, viewF.data());
       gl.UniformMatrix4fv(lineProjection, 1, GL_FALSE, projectionF.data());
       gl.Uniform2f(lineViewport, float(width), float(height));
       gl.Uniform1f(lineHalfWidth, float(0.5 * lineWidth * pixelScale));
       gl.Uniform1f(lineNear, float(near));
-      gl.Uniform4f(lineColour, lineRgba.r / 255.0f, lineRgba.g / 255.0f, lineRgba.b / 255.0f, 1.0f);
-      gl.BindVertexArray(lineVao);
-      gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, lineCount);
+      gl.Uniform4f(lineColour, rgba.r / 255.0f, rgba.g / 255.0f, rgba.b / 255.0f, 1.0f);
+      gl.BindVertexArray(vao);
+      gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, count);
+    };
+    drawSegments(lineVao, lineCount, lineRgba);
+    if (!surfaceTriangles.empty()) {
+      uploadSortedSurfaces(view);
+      gl.UseProgram(surfaceProgram);
+      gl.UniformMatrix4fv(surfaceView, 1, GL_FALSE, viewF.data());
+      gl.UniformMatrix4fv(surfaceProjection, 1, GL_FALSE, projectionF.data());
+      gl.Uniform4f(surfaceColour, surfaceRgba.r / 255.0f, surfaceRgba.g / 255.0f,
+                   surfaceRgba.b / 255.0f, surfaceRgba.a / 255.0f);
+      // Blend the colour; keep the target's alpha (the image stays opaque). Depth writes off:
+      // a surface never hides what lies behind it.
+      gl.Enable(GL_BLEND);
+      gl.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+      gl.DepthMask(GL_FALSE);
+      gl.BindVertexArray(surfaceVao);
+      gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * surfaceTriangles.size()));
+      gl.DepthMask(GL_TRUE);
+      gl.Disable(GL_BLEND);
     }
+    // The outlines last, untinted: they lie on their own surfaces, whose tint would cover them
+    // in patches where the two depths tie.
+    drawSegments(outlineVao, outlineCount, outlineRgba);
     gl.BindVertexArray(0);
     gl.UseProgram(0);
     checkError("drawing");

@@ -1,7 +1,8 @@
 #pragma once
 /// A 3-D particle figure for publication: the spheres seen in perspective inside their box,
 /// coloured by one value per particle through a colour scale, with a title and a colour bar
-/// (the paper's Figs. 2, 3 and 6).
+/// (the paper's Figs. 2, 3 and 6), and the walls of other shapes, translucent, where a scene has
+/// them.
 #include <memory>
 #include <optional>
 #include <span>
@@ -9,6 +10,7 @@
 
 #include "granular/render/colormap.hpp"
 #include "granular/render/image.hpp"
+#include "granular/render/particle_view.hpp"
 #include "granular/render/style.hpp"
 #include "granular/vec3.hpp"
 
@@ -21,6 +23,10 @@ struct ParticleFigureSpec {
   Vec3 boxMin = Vec3::Zero();      ///< the box drawn as edges, and framed by the camera [m]
   Vec3 boxMax = Vec3::Ones();
   bool openTop = true;  ///< leave out the top face's edges
+  /// Walls drawn translucent over the particles, with their outlines (ParticleScene's surfaces
+  /// and outlines) [m]; the camera frames them together with the box.
+  std::span<const Triangle> surfaces;
+  std::span<const Segment> outlines;
   std::string title;
   std::string colorBarTitle;  ///< with units, e.g. "Σ|F_ij| [N]"
   ColorMap map = viridis;

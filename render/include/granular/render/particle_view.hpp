@@ -1,10 +1,12 @@
 #pragma once
 /// The 3-D particle view: spheres drawn as ray-cast impostors with OpenGL 3.3 core, box edges
-/// as screen-space lines, a perspective camera, and an image read back at the requested size.
+/// as screen-space lines, translucent surfaces (walls) over them, a perspective camera, and an
+/// image read back at the requested size.
 ///
 /// The drawing code needs a current GL ≥ 3.3 context and a function that looks up GL entry
 /// points; it does not care where they come from: GlContext (OSMesa, headless) for figures,
 /// a GLFW window for a front end. Coordinates are the simulation's: metres, z up.
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -30,6 +32,9 @@ struct Camera {
 /// A line segment between two points [m].
 using Segment = std::pair<Vec3, Vec3>;
 
+/// A triangle's corners [m], in either order: surfaces are seen from both sides.
+using Triangle = std::array<Vec3, 3>;
+
 /// What to draw. The spans are views: the caller keeps the arrays alive during the call that
 /// takes the scene (render() or upload()); nothing is kept afterwards.
 struct ParticleScene {
@@ -44,7 +49,25 @@ struct ParticleScene {
   Rgba lineColour = {40, 40, 40, 255};     ///< dark grey
   double lineWidth = 2.0;                  ///< [px of the output image]
   Rgba background = {255, 255, 255, 255};  ///< white; the output is always opaque
+
+  /// Translucent surfaces, e.g. walls [m]: drawn over the spheres and lines, hidden where a
+  /// sphere or line is in front of them (a sphere pressing into one by less than a thousandth
+  /// of its distance from the eye counts as behind it), and never hiding one behind them (they
+  /// tint it).
+  std::span<const Triangle> surfaces;
+  /// One colour for every surface; its alpha is the opacity seen face-on (more at grazing
+  /// angles, so that a curved wall's silhouette shows), 255 opaque.
+  Rgba surfaceColour = {90, 140, 200, 56};
+  std::span<const Segment> outlines;        ///< the surfaces' edges and rims [m]
+  Rgba outlineColour = {50, 80, 120, 255};  ///< opaque, drawn `lineWidth` wide
 };
+
+/// The smallest axis-aligned box that holds the box [boxMin, boxMax], every corner of
+/// `surfaces` and every end of `outlines` [m]: what fitCamera frames to show walls that reach
+/// beyond the box.
+std::pair<Vec3, Vec3> boundsWith(const Vec3& boxMin, const Vec3& boxMax,
+                                 std::span<const Triangle> surfaces,
+                                 std::span<const Segment> outlines);
 
 /// The 12 edges of the axis-aligned box [boxMin, boxMax] [m]; with `openTop` the 4 edges of the
 /// top face (z = boxMax.z) are left out, as for the paper's open-top box.
@@ -79,8 +102,14 @@ std::optional<Eigen::Vector2d> projectToPixel(const Camera& camera, int width, i
 /// silhouette exactly); the fragment shader intersects the view ray with the sphere and writes
 /// the true depth, so overlapping spheres cut each other correctly. Shading: Lambert with a
 /// little ambient light and a soft white specular, from a light fixed to the camera (slightly
-/// above and left of the eye). Lines are screen-space quads of constant pixel width, depth
-/// tested against the spheres.
+/// above and left of the eye). Lines and outlines are screen-space quads of constant pixel
+/// width, depth tested against the spheres.
+///
+/// Surfaces come after the spheres and lines: sorted back to front for each camera,
+/// alpha-blended with depth testing on and depth writes off, both sides drawn; their outlines
+/// last, as lines. Each triangle is shaded flat by the same light (both sides lit), so that the
+/// facets of a curved wall read as a curve. A scene without surfaces draws exactly as it would
+/// without this pass.
 ///
 /// Create it with the context current; destroy it before the context, with it current. Not
 /// thread-safe (GL is not). The same scene, camera and size give bit-identical images run to
@@ -106,7 +135,8 @@ class ParticleRenderer {
                int supersample = 2);
 
   /// For a front end that owns its framebuffer: copies the scene into GPU buffers (spheres,
-  /// lines, colours, bounds), to be drawn by draw() with any number of cameras.
+  /// lines, colours, bounds; the surfaces into memory, to be sorted for each camera), to be
+  /// drawn by draw() with any number of cameras.
   void upload(const ParticleScene& scene);
   /// Draws the last uploaded scene into the currently bound framebuffer with the current
   /// viewport, which the caller sets and clears (colour and depth). `width`, `height`: the
