@@ -5,7 +5,7 @@
 /// neighbour list, the ledger, the counters), on 1-4 ranks, both integrators, with and without
 /// friction, a moving wall, a fixed and an automatic step, and liquid bridges that pull across
 /// gaps (pairs beyond the contacts' reach, whose partners the halo must still hold), and a floor
-/// that is a turning plate.
+/// that is a turning plate, flat or of triangles.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -20,6 +20,8 @@
 #include "granular/packings.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
+#include "granular/wall_mesh.hpp"
+#include "mesh_fixtures.hpp"
 #include "ranks.hpp"
 #include "same_sums.hpp"
 
@@ -34,6 +36,8 @@ struct Case {
   bool automaticStep;
   bool wet = false;        ///< liquid bridges out to 0.6 R_max beyond touch
   bool turntable = false;  ///< the floor a square plate turning about the box's vertical axis
+  /// The turning floor a triangle mesh (16 × 16 squares), with its own friction 0.2.
+  bool meshFloor = false;
 };
 
 Simulation bed(const Case& c, BoxSpec& box) {
@@ -66,6 +70,18 @@ Simulation bed(const Case& c, BoxSpec& box) {
       wall.halfSide[0] = wall.halfSide[1] = std::max(size.x(), size.y());
       wall.angularVelocity = Vec3(0, 0, 2.0);
       wall.pivot = wall.point;
+      if (c.meshFloor) {
+        const double half = wall.halfSide[0];
+        TriangleMesh plate = granular::testing::flatGrid(16, 2.0 * half);
+        for (Vec3& v : plate.vertex) v += wall.point - Vec3(half, half, 0.0);
+        wall.shape = WallShape::Mesh;
+        wall.mesh = poseMesh(std::make_shared<const TriangleMesh>(std::move(plate)), Vec3::Zero(),
+                             Vec3::UnitZ(), Vec3::UnitX());
+        wall.point = Vec3::Zero();
+        wall.normal = Vec3::UnitZ();
+        wall.edge = Vec3::UnitX();
+        wall.friction = 0.2;
+      }
     }
   }
   return Simulation(std::move(p), std::move(walls), cfg);
@@ -108,7 +124,8 @@ void compareSplitBySpace(const Case& c) {
                  << (c.friction > 0 ? "frictional " : "frictionless ")
                  << (c.integrator == Integrator::Gear5 ? "Gear5" : "Verlet")
                  << (c.automaticStep ? ", automatic step" : "") << (c.wet ? ", wet" : "")
-                 << (c.turntable ? ", turntable" : "") << ", step " << split.stepCount());
+                 << (c.turntable ? ", turntable" : "") << (c.meshFloor ? " of triangles" : "")
+                 << ", step " << split.stepCount());
     const Simulation whole = split.wholeState();
     ASSERT_EQ(whole.particles().size(), alone.particles().size());
     ASSERT_EQ(whole.stateHash(), alone.stateHash());
@@ -197,4 +214,11 @@ TEST(Ranks, SplitBySpaceOnATurningPlateIsOneProcessToTheBit) {
   // moves it alike, its travel rebuilds every rank's lists at the same steps, and its surface
   // velocity reaches the contacts on whichever rank holds them.
   compareSplitBySpace({Integrator::VelocityVerlet, 0.3, false, false, true});
+}
+
+TEST(Ranks, SplitBySpaceOnATurningMeshIsOneProcessToTheBit) {
+  // The turning floor as 512 triangles (every rank holds the whole mesh): a particle's three
+  // entries of the mesh, their springs and their contacts' normals travel with it between
+  // ranks; its own wall friction holds on every rank.
+  compareSplitBySpace({Integrator::VelocityVerlet, 0.3, false, false, true, true});
 }

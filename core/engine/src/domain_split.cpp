@@ -13,6 +13,7 @@
 #include <string>
 
 #include "granular/error.hpp"
+#include "granular/wall_mesh.hpp"
 #include "pair_springs.hpp"
 
 namespace granular {
@@ -25,6 +26,32 @@ constexpr std::size_t kMaxWalls = 64;
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw ConfigError(what);
+}
+
+/// A wall's entries per candidate in the neighbour list: a mesh's kMeshContacts, else one.
+std::size_t entriesPerCandidate(const Wall& w) {
+  return w.shape == WallShape::Mesh ? kMeshContacts : 1;
+}
+
+/// The entries a record with these wall candidacies carries (friction only).
+std::size_t entriesOf(const SimulationState& s, std::uint64_t candidate) {
+  std::size_t entries = 0;
+  for (std::size_t w = 0; w < s.walls.size(); ++w) {
+    if (candidate >> w & 1) entries += entriesPerCandidate(s.walls[w]);
+  }
+  return entries;
+}
+
+/// Entry k of wall w's list as a record: its spring and, where the list keeps them, its normal.
+WallEntryRecord entryRecord(const NeighbourList& list, std::size_t w, std::size_t k) {
+  WallEntryRecord e{};
+  if (w < list.wallHistory.size() && k < list.wallHistory[w].size()) {
+    e.spring = list.wallHistory[w][k];
+  }
+  if (w < list.wallNormal.size() && k < list.wallNormal[w].size()) {
+    for (int a = 0; a < 3; ++a) e.normal[a] = list.wallNormal[w][k][a];
+  }
+  return e;
 }
 
 std::uint64_t idOf(const SimulationState& s, std::size_t i) {
@@ -62,11 +89,12 @@ void recordParticles(const SimulationState& s, Keep keep, RecordBatch& batch) {
       for (int a = 0; a < 3; ++a) r.reference[a] = list.referencePosition[i][a];
     }
     r.wallCandidate = candidate;
-    r.wallHistoryAt = batch.wallSprings.size();
+    r.wallHistoryAt = batch.wallEntries.size();
     for (std::size_t w = 0; w < walls; ++w) {
       if ((candidate >> w & 1) == 0 || !s.frictional) continue;
-      const bool held = w < list.wallHistory.size() && historyOf[w] < list.wallHistory[w].size();
-      batch.wallSprings.push_back(held ? list.wallHistory[w][historyOf[w]] : ContactHistory{});
+      for (std::size_t e = 0; e < entriesPerCandidate(s.walls[w]); ++e) {
+        batch.wallEntries.push_back(entryRecord(list, w, historyOf[w] + e));
+      }
     }
     batch.particles.push_back(r);
   }
@@ -156,17 +184,29 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
   const bool wallSprings = s.frictional;
   std::vector<std::vector<std::uint32_t>> wallParticles(walls);
   std::vector<std::vector<ContactHistory>> wallHistory(wallSprings ? walls : 0);
+  // Meshes keep their entries' normals where they have friction (as the list's build does).
+  std::vector<std::vector<Vec3>> wallNormal(walls);
+  auto keepsNormals = [&](std::size_t w) {
+    return wallSprings && s.walls[w].shape == WallShape::Mesh;
+  };
+  auto addEntry = [&](std::size_t w, std::uint32_t at, const WallEntryRecord& e) {
+    wallParticles[w].push_back(at);
+    if (!wallSprings) return;
+    wallHistory[w].push_back(e.spring);
+    if (keepsNormals(w)) wallNormal[w].push_back(Vec3(e.normal[0], e.normal[1], e.normal[2]));
+  };
   {
     std::vector<std::size_t> cursor(walls, 0);
     for (std::size_t k = 0; k < n; ++k) {
       const auto at = static_cast<std::uint32_t>(k);
       if (isRecord[k]) {
         const ParticleRecord& r = records[from[k]];
-        std::size_t spring = r.wallHistoryAt;
+        std::size_t entry = r.wallHistoryAt;
         for (std::size_t w = 0; w < walls; ++w) {
           if ((r.wallCandidate >> w & 1) == 0) continue;
-          wallParticles[w].push_back(at);
-          if (wallSprings) wallHistory[w].push_back(batch.wallSprings.at(spring++));
+          for (std::size_t e = 0; e < entriesPerCandidate(s.walls[w]); ++e) {
+            addEntry(w, at, wallSprings ? batch.wallEntries.at(entry++) : WallEntryRecord{});
+          }
         }
         continue;
       }
@@ -176,10 +216,9 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
         std::size_t& c = cursor[w];
         while (c < on.size() && on[c] < i) ++c;
         if (c == on.size() || on[c] != i) continue;
-        wallParticles[w].push_back(at);
-        if (!wallSprings) continue;
-        const bool held = w < list.wallHistory.size() && c < list.wallHistory[w].size();
-        wallHistory[w].push_back(held ? list.wallHistory[w][c] : ContactHistory{});
+        for (std::size_t e = 0; e < entriesPerCandidate(s.walls[w]); ++e) {
+          addEntry(w, at, entryRecord(list, w, c + e));
+        }
       }
     }
   }
@@ -238,6 +277,7 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
   layOutPairSprings(list, springs, list.springs.optional);
   list.wallParticles = std::move(wallParticles);
   list.wallHistory = std::move(wallHistory);
+  list.wallNormal = std::move(wallNormal);
   list.plan.valid = false;
   s.owned.assign(n, 1);
 }
@@ -273,7 +313,10 @@ template <class T>
 void putArray(std::vector<std::byte>& out, const std::vector<T>& values) {
   const std::uint64_t count = values.size();
   const std::size_t at = out.size();
-  out.resize(at + sizeof count + values.size() * sizeof(T));
+  const std::size_t bytes = values.size() * sizeof(T);
+  // (A bound GCC 12 can see: without it, it takes the new size for one that may wrap.)
+  if (bytes > std::size_t{1} << 48) throw std::length_error("split run: a message over 256 TiB");
+  out.resize(at + sizeof count + bytes);
   std::memcpy(out.data() + at, &count, sizeof count);
   if (count > 0) {  // (an empty array's data() may be null, which memcpy may not be given)
     std::memcpy(out.data() + at + sizeof count, values.data(), values.size() * sizeof(T));
@@ -298,7 +341,7 @@ void getArray(const std::vector<std::byte>& in, std::size_t& at, std::vector<T>&
 std::vector<std::byte> serialise(const RecordBatch& batch) {
   std::vector<std::byte> out;
   putArray(out, batch.particles);
-  putArray(out, batch.wallSprings);
+  putArray(out, batch.wallEntries);
   putArray(out, batch.pairs);
   return out;
 }
@@ -309,9 +352,9 @@ void mergeInto(RecordBatch& all, const std::vector<std::vector<std::byte>>& rece
     if (bytes.empty()) continue;
     std::size_t at = 0;
     const std::size_t firstParticle = all.particles.size();
-    const std::uint64_t springBase = all.wallSprings.size();
+    const std::uint64_t springBase = all.wallEntries.size();
     getArray(bytes, at, all.particles);
-    getArray(bytes, at, all.wallSprings);
+    getArray(bytes, at, all.wallEntries);
     getArray(bytes, at, all.pairs);
     for (std::size_t k = firstParticle; k < all.particles.size(); ++k) {
       all.particles[k].wallHistoryAt += springBase;
@@ -351,10 +394,6 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   require(domains->ranks() == ranks->size(), "split: " + std::to_string(domains->ranks()) +
                                                  " domains for " + std::to_string(ranks->size()) +
                                                  " ranks");
-  for (const Wall& w : s.walls) {
-    require(w.shape != WallShape::Mesh,
-            "split: wall " + w.name + " is a triangle mesh, which a split run does not take yet");
-  }
   require(s.walls.size() <= kMaxWalls,
           "split: " + std::to_string(s.walls.size()) + " walls; a split run takes at most 64");
   require(s.split.domains == nullptr, "split: the run is split already");
@@ -443,14 +482,14 @@ void redistribute(SimulationState& s) {
   for (std::size_t i = 0, k = 0; i < n; ++i) {
     if (!leaves[i]) continue;
     const ParticleRecord& r = leaving.particles[k++];
-    const std::size_t springs = s.frictional ? std::size_t(std::popcount(r.wallCandidate)) : 0;
-    const auto from = leaving.wallSprings.begin() + std::ptrdiff_t(r.wallHistoryAt);
+    const std::size_t springs = s.frictional ? entriesOf(s, r.wallCandidate) : 0;
+    const auto from = leaving.wallEntries.begin() + std::ptrdiff_t(r.wallHistoryAt);
     for (auto it = nearBegin(i); it != nearEnd(i); ++it) {
       if (*it == me) continue;
       RecordBatch& to = away[std::size_t(*it)];
       to.particles.push_back(r);
-      to.particles.back().wallHistoryAt = to.wallSprings.size();
-      to.wallSprings.insert(to.wallSprings.end(), from, from + std::ptrdiff_t(springs));
+      to.particles.back().wallHistoryAt = to.wallEntries.size();
+      to.wallEntries.insert(to.wallEntries.end(), from, from + std::ptrdiff_t(springs));
     }
   }
   std::vector<ParticleRecord>().swap(leaving.particles);  // copied into the messages

@@ -23,7 +23,14 @@ struct ParticleRecord {
   double value[recordDoubles()];
   float reference[3];
   std::uint64_t wallCandidate = 0;  ///< bit w: a candidate of wall w in the neighbour list
-  std::uint64_t wallHistoryAt = 0;  ///< its wall springs in the batch's pool (friction only)
+  std::uint64_t wallHistoryAt = 0;  ///< its wall entries in the batch's pool (friction only)
+};
+
+/// One entry of a wall candidate (a mesh's candidate has kMeshContacts of them): its spring,
+/// and for a mesh the normal of the contact it holds (zero for none).
+struct WallEntryRecord {
+  ContactHistory spring;
+  double normal[3];
 };
 
 /// A candidate pair by global ids, with its spring (zero when it holds none).
@@ -35,7 +42,8 @@ struct PairRecord {
 /// Records as a rank holds them before assembling its state.
 struct RecordBatch {
   std::vector<ParticleRecord> particles;
-  std::vector<ContactHistory> wallSprings;  ///< per record, one per wall candidate, ascending wall
+  /// Per record, its wall candidates' entries, ascending wall (friction only).
+  std::vector<WallEntryRecord> wallEntries;
   std::vector<PairRecord> pairs;
 };
 
