@@ -58,17 +58,22 @@ void meshContacts(const TriangleMesh& mesh, const MeshTopology& topology,
   out.clear();
   // 1. Each candidate's closest point, within reach. A face's is straight across its plane,
   // so that a sphere over a flat region is exactly above its contact point.
-  std::vector<MeshContact> found;
+  // Scratch kept on this thread between calls: nothing is allocated per particle and step.
+  thread_local std::vector<MeshContact> found, kept;
+  found.clear();
+  kept.clear();
   for (std::uint32_t t : candidates) {
     const auto& v = mesh.triangle[t];
+    const Vec3& n = topology.normal[t];
+    const double across = (x - mesh.vertex[v[0]]).dot(n);
+    // No point of a triangle is nearer than its plane: most candidates end here.
+    if (!(std::abs(across) < reach)) continue;
     const TriangleTouch touch =
         closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
     MeshContact c;
     c.triangle = t;
     c.feature = touch.feature;
     if (touch.feature == TriangleFeature::Face) {
-      const Vec3& n = topology.normal[t];
-      const double across = (x - mesh.vertex[v[0]]).dot(n);
       c.distance = std::abs(across);
       c.normal = across < 0.0 ? Vec3(-n) : n;
       c.point = x - across * n;
@@ -89,7 +94,6 @@ void meshContacts(const TriangleMesh& mesh, const MeshTopology& topology,
              topology.across[t][edgeOf(d.feature)] == std::int64_t(across);
     });
   };
-  std::vector<MeshContact> kept;
   for (const MeshContact& c : found) {
     if (isEdge(c.feature)) {
       const std::int64_t other = topology.across[c.triangle][edgeOf(c.feature)];
