@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "paper_figures.hpp"
+#include "run_figures.hpp"
 
 namespace granular::app {
 
@@ -86,6 +87,9 @@ CommandLine::CommandLine(std::shared_ptr<const Communicator> ranks) : ranks_(std
       "Start again in OUT even if it holds an earlier run: that run's files "
       "(time series, snapshots, ParaView files, checkpoint) are removed first");
   force->excludes("--resume");
+  runCommand_->add_flag("--figures", run_.figures,
+                        "At the end, draw the run's figures into OUT/figures/ as `granular figures "
+                        "OUT` does");
 
   paper_.scenesDir = GRANULAR_SCENES_DIR;
   paperCommand_ = app_.add_subcommand(
@@ -135,8 +139,11 @@ CommandLine::CommandLine(std::shared_ptr<const Communicator> ranks) : ranks_(std
   calibrateCommand_->add_flag("-q,--quiet", calibrate_.quiet, "No progress lines on stderr");
 
   figuresCommand_ = app_.add_subcommand(
-      "figures", "Re-draw every figure of a `granular paper` run from its saved results");
-  figuresCommand_->add_option("run_dir", figuresDir_, "The --out folder of `granular paper`")
+      "figures",
+      "Draw the figures of a `granular run` folder, or re-draw every figure of a `granular "
+      "paper` run, from its saved results");
+  figuresCommand_
+      ->add_option("run_dir", figuresDir_, "The --out folder of `granular run` or `granular paper`")
       ->required()
       ->check(kNonEmptyPath);
 }
@@ -186,7 +193,10 @@ int CommandLine::run(int argc, char** argv) {
   if (root) {
     if (*paperCommand_) code = paperCommand(paper_);
     if (*calibrateCommand_) code = calibrateCommand(calibrate_);
-    if (*figuresCommand_) code = figuresCommand(figuresDir_);
+    if (*figuresCommand_) {
+      code =
+          isRunFolder(figuresDir_) ? runFiguresCommand(figuresDir_) : figuresCommand(figuresDir_);
+    }
   } else {
     code = 0;
   }

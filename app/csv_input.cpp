@@ -1,6 +1,7 @@
 /// csv_input.hpp.
 #include "csv_input.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -39,7 +40,14 @@ const std::vector<double>& CsvTable::column(const std::string& name) const {
   throw IoError(file.string() + ": no column '" + name + "'");
 }
 
-CsvTable readCsv(const std::filesystem::path& file) {
+const std::vector<std::string>& CsvTable::text(const std::string& name) const {
+  for (std::size_t c = 0; c < textHeader.size(); ++c) {
+    if (textHeader[c] == name) return textColumns[c];
+  }
+  throw IoError(file.string() + ": no column '" + name + "'");
+}
+
+CsvTable readCsv(const std::filesystem::path& file, const std::vector<std::string>& textColumns) {
   std::ifstream in(file);
   if (!in) throw IoError(file.string() + ": cannot open");
   CsvTable table;
@@ -49,6 +57,11 @@ CsvTable readCsv(const std::filesystem::path& file) {
   const std::vector<std::string> names = splitCells(line);
   std::vector<bool> numeric(names.size(), true);
   std::vector<std::vector<double>> all(names.size());
+  std::vector<std::vector<std::string>> texts(names.size());
+  std::vector<bool> asText(names.size());
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    asText[c] = std::find(textColumns.begin(), textColumns.end(), names[c]) != textColumns.end();
+  }
   for (long lineNo = 2; std::getline(in, line); ++lineNo) {
     if (line.empty()) continue;
     const std::vector<std::string> cells = splitCells(line);
@@ -59,12 +72,17 @@ CsvTable readCsv(const std::filesystem::path& file) {
     }
     for (std::size_t c = 0; c < cells.size(); ++c) {
       double v = 0;
+      if (asText[c]) texts[c].push_back(cells[c]);
       if (!parseNumber(cells[c], v)) numeric[c] = false;
       all[c].push_back(v);
     }
     table.lines.push_back(lineNo);
   }
   for (std::size_t c = 0; c < names.size(); ++c) {
+    if (asText[c]) {
+      table.textHeader.push_back(names[c]);
+      table.textColumns.push_back(std::move(texts[c]));
+    }
     if (!numeric[c]) continue;
     table.header.push_back(names[c]);
     table.columns.push_back(std::move(all[c]));

@@ -1,5 +1,5 @@
 /// granular: the command line. Subcommands:
-///   granular run SCENE.toml [--out DIR] [--quiet] [--checkpoint-every S] [--resume]
+///   granular run SCENE.toml [--out DIR] [--quiet] [--checkpoint-every S] [--resume] [--figures]
 ///   granular paper [--out DIR] [--scenes DIR] [--fresh] [--quiet]
 ///   granular figures RUN_DIR
 ///   granular calibrate-box SCENE.toml --sides A,B,C [--target-height H] [--report FILE]

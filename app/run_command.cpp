@@ -28,6 +28,7 @@
 #include "granular/scene_fingerprint.hpp"
 #include "granular/stage.hpp"
 #include "progress.hpp"
+#include "run_figures.hpp"
 #include "run_folder.hpp"
 #include "run_header.hpp"
 #include "run_progress.hpp"
@@ -516,6 +517,16 @@ int runScene(const RunOptions& options) {
                     ? "; snapshots for ParaView: particles.pvd, contacts.pvd, walls.pvd"
                     : "")
             << "\n";
+  if (options.figures) {
+    try {
+      printRunFigures(std::cout, drawRunFigures(outDir));
+    } catch (const Interrupted&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw IoError(std::string(e.what()) + " (the run's own files in " + outDir.string() +
+                    " are complete)");
+    }
+  }
   return 0;
 }
 

@@ -19,6 +19,8 @@ struct RunOptions {
   /// Start again in an output folder that holds an earlier run: its files are removed first
   /// (without it such a folder is refused, run_folder.hpp).
   bool force = false;
+  /// Once the run's files are complete, draw its figures into <outDir>/figures/ (run_figures.hpp).
+  bool figures = false;
   /// The processes of a run under mpirun (null: one process alone). The run is then split by
   /// space among them: rank 0 writes every file and prints, each rank steps its share.
   std::shared_ptr<const Communicator> ranks;

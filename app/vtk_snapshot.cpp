@@ -4,11 +4,13 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkStringArray.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include <cmath>
@@ -136,11 +138,18 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
   cellForce->SetNumberOfComponents(3);
   pressure->SetName("pressure_Pa");
   shear->SetName("shear_Pa");
-  vtkNew<vtkIntArray> index;
+  // The shape codes vtk_snapshot.hpp documents, which readers of old files rely on.
+  static_assert(int(WallShape::Plane) == 0 && int(WallShape::Rectangle) == 1 &&
+                int(WallShape::Frustum) == 2 && int(WallShape::Mesh) == 3);
+  vtkNew<vtkIntArray> index, shape;
   index->SetName("wall");
+  shape->SetName("shape");
+  vtkNew<vtkStringArray> names;
+  names->SetName("wall_name");
   const std::vector<std::vector<Vec3>> loads = wallCellForces(sim);
   for (std::size_t w = 0; w < sim.walls().size(); ++w) {
     const Wall& wall = sim.walls()[w];
+    names->InsertNextValue(wall.name);
     // Each wall's cells carry its reaction, velocity and index, and each its own load: the
     // particles' force on it, and that force's normal and tangential parts over its area.
     std::size_t cell = 0;
@@ -151,6 +160,7 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
       reaction->InsertNextTuple3(wall.reaction.x(), wall.reaction.y(), wall.reaction.z());
       velocity->InsertNextTuple3(wall.velocity.x(), wall.velocity.y(), wall.velocity.z());
       index->InsertNextValue(int(w));
+      shape->InsertNextValue(int(wall.shape));
       // Newell's vector: the polygon's normal times twice its area.
       Vec3 twiceArea = Vec3::Zero();
       const std::vector<Vec3> c(corners);
@@ -227,6 +237,19 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
   poly->GetCellData()->AddArray(cellForce);
   poly->GetCellData()->AddArray(pressure);
   poly->GetCellData()->AddArray(shear);
+  poly->GetCellData()->AddArray(shape);
+  // The box and the walls' names: what a reader needs to draw the walls as the run had them
+  // without the scene file.
+  auto corner = [](const char* name, const Vec3& x) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    a->InsertNextTuple3(x.x(), x.y(), x.z());
+    return a;
+  };
+  poly->GetFieldData()->AddArray(corner("box_min_m", boxMin));
+  poly->GetFieldData()->AddArray(corner("box_max_m", boxMax));
+  poly->GetFieldData()->AddArray(names);
   write(file, poly);
 }
 

@@ -12,7 +12,11 @@
 /// axis; a mesh: its triangles), per cell: reaction_N (the particles' push on the whole wall),
 /// velocity_m_s, wall, and the cell's own load (wall_cell_loads.hpp): force_N (the particles'
 /// push on the cell), pressure_Pa and shear_Pa (its normal and tangential parts over the
-/// cell's area, the normal part's magnitude: shells are touched from either side).
+/// cell's area, the normal part's magnitude: shells are touched from either side), shape (the
+/// wall's granular::WallShape: 0 an infinite plane, 1 a rectangle, 2 a frustum, that is a
+/// cylinder, cone, disc or annulus, 3 a mesh). Field data of the walls' file: box_min_m and
+/// box_max_m (the scene's box, one tuple of 3 each), wall_name (one string a wall, indexed by
+/// `wall`).
 #include <filesystem>
 #include <vector>
 

@@ -448,14 +448,17 @@ int figuresCommand(const std::filesystem::path& runDir) {
   return withErrorMapping([&] {
     catchStopSignals();
     if (!std::filesystem::is_directory(runDir)) {
-      throw IoError(runDir.string() + ": not a folder (give the --out folder of `granular paper`)");
+      throw IoError(runDir.string() +
+                    ": not a folder (give the --out folder of `granular run` or `granular paper`)");
     }
     const FigureSet set = drawPaperFigures(runDir);
     for (const std::string& gap : set.gaps) std::cerr << "warning: " << gap << "\n";
     if (set.written.empty()) {
       throw IoError(runDir.string() +
-                    ": nothing to draw: not the --out folder of `granular paper` (it needs mu0/ "
-                    "and mu03/ with settled_particles.csv, compaction_stress.csv and fields/)");
+                    ": nothing to draw: neither the --out folder of `granular run` (it holds "
+                    "summary.txt, written at the run's end, and timeseries.csv) nor that of "
+                    "`granular paper` (it needs mu0/ and mu03/ with settled_particles.csv, "
+                    "compaction_stress.csv and fields/)");
     }
     for (const FigureFile& f : set.written) {
       std::cout << "wrote " << (runDir / f.path).string() << "\n";

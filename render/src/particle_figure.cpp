@@ -22,7 +22,8 @@ FigureRenderer::FigureRenderer() : impl_(std::make_unique<Impl>()) {}
 FigureRenderer::~FigureRenderer() = default;
 
 Image FigureRenderer::particleFigure(const ParticleFigureSpec& spec) {
-  if (spec.centres.size() != spec.radii.size() || spec.values.size() != spec.centres.size()) {
+  if (spec.centres.size() != spec.radii.size() ||
+      (!spec.values.empty() && spec.values.size() != spec.centres.size())) {
     throw std::invalid_argument("particleFigure: centres, radii and values differ in length");
   }
   const FigureStyle& style = spec.style;
@@ -44,16 +45,21 @@ Image FigureRenderer::particleFigure(const ParticleFigureSpec& spec) {
                     VAlign::Top};
     top = canvas.text({spec.width / 2.0, margin}, spec.title, title).bottom() + margin;
   }
-  ColorBarSpec bar;
-  bar.title = spec.colorBarTitle;
-  bar.style = style;
-  const double barLength = 0.6 * (spec.height - top - margin);
-  const double barExtent = colorBarExtent(scale, bar, barLength);
-  const Rect barArea =
-      Rect::fromEdges(spec.width - margin - barExtent, top + 0.2 * (spec.height - top - margin),
-                      spec.width - margin, top + 0.2 * (spec.height - top - margin) + barLength);
-  drawColorBar(canvas, barArea, scale, bar);
-  const Rect view = Rect::fromEdges(margin, top, barArea.left() - margin, spec.height - margin);
+  // Without values there is no scale to show: the view takes the colour bar's place.
+  double viewRight = spec.width - margin;
+  if (!spec.values.empty() || spec.centres.empty()) {
+    ColorBarSpec bar;
+    bar.title = spec.colorBarTitle;
+    bar.style = style;
+    const double barLength = 0.6 * (spec.height - top - margin);
+    const double barExtent = colorBarExtent(scale, bar, barLength);
+    const Rect barArea =
+        Rect::fromEdges(spec.width - margin - barExtent, top + 0.2 * (spec.height - top - margin),
+                        spec.width - margin, top + 0.2 * (spec.height - top - margin) + barLength);
+    drawColorBar(canvas, barArea, scale, bar);
+    viewRight = barArea.left() - margin;
+  }
+  const Rect view = Rect::fromEdges(margin, top, viewRight, spec.height - margin);
 
   const int viewWidth = std::max(1, static_cast<int>(view.w));
   const int viewHeight = std::max(1, static_cast<int>(view.h));

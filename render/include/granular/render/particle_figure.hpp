@@ -17,10 +17,12 @@
 namespace granular::render {
 
 struct ParticleFigureSpec {
-  std::span<const Vec3> centres;   ///< [m]
-  std::span<const double> radii;   ///< [m]
-  std::span<const double> values;  ///< one per particle, coloured through the scale [any unit]
-  Vec3 boxMin = Vec3::Zero();      ///< the box drawn as edges, and framed by the camera [m]
+  std::span<const Vec3> centres;  ///< [m]
+  std::span<const double> radii;  ///< [m]
+  /// One per particle, coloured through the scale [any unit]; empty: every sphere one grey
+  /// (ParticleScene::defaultColour) and no colour bar.
+  std::span<const double> values;
+  Vec3 boxMin = Vec3::Zero();  ///< the box drawn as edges, and framed by the camera [m]
   Vec3 boxMax = Vec3::Ones();
   bool openTop = true;  ///< leave out the top face's edges
   /// Walls drawn translucent over the particles, with their outlines (ParticleScene's surfaces
