@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-
 #include "granular/wall.hpp"
 #include "granular/wall_mesh.hpp"
 #include "triangle_grid.hpp"
