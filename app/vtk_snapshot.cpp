@@ -189,7 +189,8 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
     if (wall.shape == WallShape::Frustum) {
       // Facets between the start circle and the end circle (a triangle where a radius is 0).
       constexpr int kFacets = kFrustumFacets;
-      const auto [e1, e2] = frustumBasis(wall);
+      const FrustumBasis basis = frustumBasis(wall);
+      const Vec3 e1 = basis.e1, e2 = basis.e2;
       const Vec3 end = wall.point + wall.length * wall.normal;
       auto around = [&](int k) {
         const double angle = 2.0 * std::numbers::pi * k / kFacets;
