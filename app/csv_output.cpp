@@ -32,8 +32,9 @@ std::string csvNumber(double x) {
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
-                                   std::vector<std::string> walls, const Material& material)
-    : file_(path), walls_(std::move(walls)) {
+                                   std::vector<std::string> walls, const Material& material,
+                                   bool exchange)
+    : file_(path), walls_(std::move(walls)), exchange_(exchange) {
   std::ostringstream header;
   header << "stage,time_s,step,dt_s,kinetic_translational_J,kinetic_rotational_J";
   for (const EnergyAccountSpec& column : energyColumns(material))
@@ -45,14 +46,18 @@ TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
       header << ",reaction_" << wall << '_' << axis << "_N";  // wall names need no quoting
     }
   }
+  if (exchange_) {
+    header << ",particles,mass_held_kg,mass_inserted_kg,mass_discharged_kg,mass_balance_kg,"
+              "energy_exchanged_J";
+  }
   header << "\n";
   file_.append(header.str());
 }
 
 TimeSeriesWriter::TimeSeriesWriter(const std::filesystem::path& path,
                                    std::vector<std::string> walls, std::uint64_t bytes,
-                                   std::optional<std::uint64_t> hash)
-    : file_(path, bytes, hash), walls_(std::move(walls)) {}
+                                   std::optional<std::uint64_t> hash, bool exchange)
+    : file_(path, bytes, hash), walls_(std::move(walls)), exchange_(exchange) {}
 
 void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
   const EnergyBalance e = sim.energy();
@@ -73,6 +78,12 @@ void TimeSeriesWriter::write(const std::string& stage, const Simulation& sim) {
     }
     const Vec3& r = sim.walls()[std::size_t(index)].reaction;
     row << ',' << csvNumber(r.x()) << ',' << csvNumber(r.y()) << ',' << csvNumber(r.z());
+  }
+  if (exchange_) {
+    const ParticleTally t = sim.particleTally();
+    row << ',' << t.held << ',' << csvNumber(t.heldMass) << ',' << csvNumber(t.insertedMass) << ','
+        << csvNumber(t.removedMass) << ',' << csvNumber(t.massBalance) << ','
+        << csvNumber(e.exchanged);
   }
   row << '\n';
   file_.append(row.str());

@@ -25,13 +25,17 @@ class TimeSeriesWriter {
   /// `walls` fixes the reaction columns; a wall that does not exist yet (the top wall before
   /// it is placed) gets empty cells. The energy columns are those of the terms `material` uses
   /// (energyColumns(material)), as Simulation::energy() gives them.
+  /// With `exchange` (a scene whose stages insert or remove particles) each row ends with the
+  /// particles held, the masses held, inserted and discharged, their balance (zero, exactly)
+  /// and the energy exchanged (Simulation::particleTally, EnergyBalance::exchanged).
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
-                   const Material& material);
+                   const Material& material, bool exchange = false);
   /// Continues a file written up to `bytes` (a resumed run): rows after that are dropped, so the
   /// file ends as if the run had never stopped. IoError if the file is shorter; ConfigError,
   /// nothing cut, if its first `bytes` do not hash to `hash` (they were edited).
   TimeSeriesWriter(const std::filesystem::path& path, std::vector<std::string> walls,
-                   std::uint64_t bytes, std::optional<std::uint64_t> hash);
+                   std::uint64_t bytes, std::optional<std::uint64_t> hash, bool exchange = false);
+  /// Collective in a split run (the energies and the tally are summed over the ranks).
   void write(const std::string& stage, const Simulation& sim);
   /// Bytes in the file so far (every row is written as it comes) [B].
   std::uint64_t bytes() const { return file_.bytes(); }
@@ -43,6 +47,7 @@ class TimeSeriesWriter {
  private:
   AppendFile file_;
   std::vector<std::string> walls_;
+  bool exchange_ = false;
 };
 
 /// Writes id,x,y,z,vx,vy,vz,wx,wy,wz,radius,mass (SI units) to a temporary file renamed into

@@ -222,7 +222,10 @@ void agreeOnSetup(const Communicator* ranks, const std::exception_ptr& failed) {
 std::shared_ptr<const DomainMap> bricksFor(const Scene& scene, const Simulation& sim, int ranks) {
   auto bricks = std::make_shared<Bricks>(ranks, scene.box.min, scene.box.max);
   const std::vector<double>& radius = sim.particles().radius;
-  bricks->balance(sim.particles().position, 2.0 * *std::max_element(radius.begin(), radius.end()));
+  // A run that starts empty (its stages insert the particles) balances later, at its rebuilds.
+  const double rMax =
+      radius.empty() ? sim.contactScale().radius : *std::max_element(radius.begin(), radius.end());
+  bricks->balance(sim.particles().position, 2.0 * rMax);
   return bricks;
 }
 
@@ -275,9 +278,11 @@ int runScene(const RunOptions& options) {
   std::optional<TimeSeriesWriter> series;
   if (!root) {
   } else if (start.resumed) {
-    series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes, progress.seriesHash);
+    series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes, progress.seriesHash,
+                   exchangesParticles(scene));
   } else {
-    series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material);
+    series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material,
+                   exchangesParticles(scene));
   }
   // A file written from the whole state: gathered from every rank in a split run.
   auto withWhole = [&](const Simulation& s, const std::function<void(const Simulation&)>& write) {
@@ -334,6 +339,7 @@ int runScene(const RunOptions& options) {
           series->write(stage.name, s);
         } else {
           (void)s.energy();  // the row's energies: every rank takes part in their sums
+          if (exchangesParticles(scene)) (void)s.particleTally();
         }
         if (s.counters().unstableChecks > 0 && !unstableReported) {
           // on_unstable = "warn": said once; the summary gives the count.

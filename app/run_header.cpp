@@ -32,7 +32,7 @@ namespace {
 /// stiffer of a particle-particle and a particle-wall contact of the smallest radius, and a scene
 /// of one sphere has no pair, a scene without walls no wall contact.
 std::string contactKinds(const Scene& scene, const Simulation& sim) {
-  const bool pairs = sim.particles().size() >= 2;
+  const bool pairs = sim.particles().size() >= 2 || exchangesParticles(scene);
   bool walls = !sim.walls().empty();
   for (const StageSpec& stage : scene.stages) walls = walls || stage.placeTopWallOnSurface;
   const bool wallSets = sim.contactScale().againstWall;
@@ -56,6 +56,23 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
       << format("%.6g", totalMass(sim.particles())) << " kg (density "
       << format("%.6g", config.material.density) << " kg/m³"
       << (scene.totalMass ? ", scaled to the scene's total_mass" : "") << ")\n";
+  for (const StageSpec& stage : scene.stages) {
+    for (const InsertSpec& insert : stage.inserts) {
+      out << "inserts     " << insert.name << ": " << insert.count << " in stage " << stage.name
+          << " at " << format("%.6g", insert.rate) << " /s, radii "
+          << format("%.6g", insert.radiusMin) << "-" << format("%.6g", insert.radiusMax)
+          << " m, every " << format("%.6g", stage.exchangeInterval) << " s\n";
+    }
+    for (const OutletSpec& outlet : stage.outlets) {
+      out << "outlets     " << outlet.name << " in stage " << stage.name << ", every "
+          << format("%.6g", stage.exchangeInterval) << " s\n";
+    }
+    if (!stage.removeWalls.empty()) {
+      out << "removes     ";
+      for (const std::string& wall : stage.removeWalls) out << wall << ' ';
+      out << "at the start of stage " << stage.name << "\n";
+    }
+  }
   // The step in full (it reads back to the same double): a rounded one hides a typo.
   const char* integrator = config.integrator == Integrator::Gear5 ? "gear5" : "verlet";
   const StepCheck& check = sim.stepCheck();

@@ -173,6 +173,7 @@ void writeWallsVtp(const std::filesystem::path& file, const Simulation& sim, con
       pressure->InsertNextValue(area > 0.0 ? std::abs(normal) / area : 0.0);
       shear->InsertNextValue(area > 0.0 ? (f - normal * n).norm() / area : 0.0);
     };
+    if (wall.removed) continue;  // a gate opened: nothing to draw, no load
     if (wall.shape == WallShape::Mesh) {
       const TriangleMesh& mesh = wall.mesh->world;
       for (const auto& t : mesh.triangle) {

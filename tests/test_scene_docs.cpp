@@ -114,6 +114,8 @@ std::map<std::string, std::set<std::string>> documentedKeys() {
     } else if (starts("### `type = \"csv\"`")) {
       section = "particles.csv";
       keys[section].insert("type");
+    } else if (starts("### `[[")) {  // ### `[[stages.inserts]]`: an array inside a table
+      section = line.substr(7, line.find(']', 7) - 7);
     } else if (starts("## `[")) {  // ## `[material]`, ## `[[stages]]`
       std::string bare;
       for (std::size_t k = 4; k < line.size() && line[k] != '`'; ++k) {
@@ -127,7 +129,7 @@ std::map<std::string, std::set<std::string>> documentedKeys() {
       std::string key = line.substr(3, line.find('`', 3) - 3);
       if (key.front() == '[') {  // [stages.wall_velocity]: a sub-table
         key = key.substr(key.rfind('.') + 1);
-        key.pop_back();
+        while (!key.empty() && key.back() == ']') key.pop_back();
       }
       keys[section].insert(key);
     }

@@ -68,6 +68,7 @@ void addMesh(const Wall& wall, WallDrawing& out) {
 WallDrawing wallDrawing(std::span<const Wall> walls) {
   WallDrawing out;
   for (const Wall& wall : walls) {
+    if (wall.removed) continue;  // a gate opened
     switch (wall.shape) {
       case WallShape::Plane:
         break;

@@ -270,8 +270,54 @@ class Reader {
 /// scene of planes keeps the bytes it had; a build before shells refuses the section as
 /// trailing data).
 constexpr std::string_view kWallShapesTag = "wall_shapes";
-/// The walls' own friction, last, when any wall has its own.
+/// The walls' own friction, when any wall has its own.
 constexpr std::string_view kWallFrictionTag = "wall_friction";
+/// Particles inserted and removed, walls taken away, and the smallest radius a run that
+/// inserts particles was set up for: last, when the run has any of them.
+constexpr std::string_view kExchangeTag = "particle_exchange";
+
+bool hasExchange(const SimulationState& s) {
+  return s.exchange.any() || s.config.smallestRadius > 0 ||
+         std::any_of(s.walls.begin(), s.walls.end(), [](const Wall& w) { return w.removed; });
+}
+
+/// The exchange section's fields (kExchangeTag).
+template <class Io>
+void exchangeFields(Io& io, SimulationState& s) {
+  io(s.config.smallestRadius);
+  ExchangeTally& x = s.exchange;
+  io(x.inserted), io(x.removed), io(x.insertedBy);
+  for (ExactSum* sum : {&x.startMass, &x.insertedMass, &x.removedMass, &x.net}) {
+    std::vector<std::int64_t> words;
+    if constexpr (std::is_same_v<Io, Writer>) {
+      const ExactSum::Words w = sum->words();
+      words.assign(w.begin(), w.end());
+    }
+    io(words);
+    if constexpr (std::is_same_v<Io, Reader>) {
+      ExactSum::Words w{};
+      if (words.size() != w.size()) io.corrupted("a mass tally has the wrong length");
+      std::copy(words.begin(), words.end(), w.begin());
+      *sum = ExactSum::fromWords(w);
+    }
+  }
+  io(s.energy.exchanged);
+  std::vector<std::uint8_t> removed;
+  if constexpr (std::is_same_v<Io, Writer>) {
+    for (const Wall& w : s.walls) removed.push_back(w.removed ? 1 : 0);
+  }
+  io(removed);
+  if constexpr (std::is_same_v<Io, Reader>) {
+    if (removed.size() != s.walls.size()) io.corrupted("the removed walls do not match the walls");
+    for (std::size_t w = 0; w < removed.size(); ++w) {
+      if (removed[w] > 1) io.corrupted("a wall's removed flag is not 0 or 1");
+      s.walls[w].removed = removed[w] == 1;
+    }
+    if (!std::isfinite(s.config.smallestRadius) || s.config.smallestRadius < 0) {
+      io.corrupted("the smallest radius is not a length");
+    }
+  }
+}
 
 template <class Io>
 void frictionFields(Io& io, Wall& w) {
@@ -525,6 +571,11 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
     w(tag);
     for (const Wall& wall : state.walls) frictionFields(w, const_cast<Wall&>(wall));  // read only
   }
+  if (hasExchange(state)) {
+    std::string tag(kExchangeTag);
+    w(tag);
+    exchangeFields(w, const_cast<SimulationState&>(state));  // read only
+  }
   const std::vector<char>& payload = w.bytes();
   std::vector<char> out(kMagic, kMagic + sizeof kMagic);
   put(out, kCheckpointVersion);
@@ -685,6 +736,17 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
   if (tag == kWallFrictionTag) {
     for (Wall& wall : state->walls) frictionFields(r, wall);
     tag.clear();
+    if (!r.atEnd()) r(tag);
+  }
+  if (tag == kExchangeTag) {
+    exchangeFields(r, *state);
+    tag.clear();
+  } else {
+    // No exchange: the particles held are those the run started with.
+    for (double m : state->particles.mass) {
+      state->exchange.startMass.add(m);
+      state->exchange.net.add(m);
+    }
   }
   if (!tag.empty()) r.corrupted("trailing data");
   if (!r.atEnd()) throw CheckpointError(name + ": corrupted checkpoint: trailing data");

@@ -54,6 +54,7 @@ namespace {
 /// lexicographic order), so the search is a sort and one linear sweep.
 void requireDistinctCentres(const Particles& p) {
   const std::size_t n = p.size();
+  if (n == 0) return;
   const double rMax = *std::max_element(p.radius.begin(), p.radius.end());
   const double cell = std::max(2e-9 * rMax, 0x1p-1022);  // at least the smallest normal double
   struct Entry {
@@ -125,7 +126,11 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
                 "skin = " + shortNumber(cfg.skin) + " m: must be >= 0");
   validateStepControl(cfg.step);
   requireConfig(cfg.gravity.allFinite(), "gravity must be finite");
-  requireConfig(p.size() > 0, "the scene has no particles");
+  requireConfig(std::isfinite(cfg.smallestRadius) && cfg.smallestRadius >= 0,
+                "smallest radius = " + shortNumber(cfg.smallestRadius) + " m: must be >= 0");
+  requireConfig(p.size() > 0 || cfg.smallestRadius > 0,
+                "the scene has no particles (a run that inserts them all needs the smallest "
+                "radius it will hold)");
   forEachParticleField(p, [&](const FieldSpec& field, const auto& array) {
     requireConfig(array.size() == p.size(),
                   "particle arrays have different lengths: " + std::to_string(array.size()) + " " +
@@ -146,6 +151,16 @@ void validateScene(const SimulationConfig& cfg, const Particles& p,
   for (const Wall& w : walls) validateWall(w);
   requireWallFrictionWithin(walls, cfg.material);
   requireDistinctCentres(p);
+}
+
+}  // namespace granular
+
+namespace granular {
+
+double smallestRadius(const Particles& p, const SimulationConfig& config) {
+  double r = config.smallestRadius > 0 ? config.smallestRadius : HUGE_VAL;
+  for (double radius : p.radius) r = std::min(r, radius);
+  return r;
 }
 
 }  // namespace granular

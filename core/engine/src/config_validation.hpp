@@ -16,6 +16,9 @@ std::string shortNumber(double x);
 void validateStepControl(const StepControl& c);
 /// A wall's friction > 0 needs frictional particles (under `material`).
 void requireWallFrictionWithin(const std::vector<Wall>& walls, const Material& material);
+/// The smallest radius the run holds or will hold: the particles' and
+/// SimulationConfig::smallestRadius [m].
+double smallestRadius(const Particles& p, const SimulationConfig& config);
 /// The configuration, the particles (sizes, masses, finite motion, no coincident centres) and
 /// the walls of a new simulation.
 void validateScene(const SimulationConfig& cfg, const Particles& p, const std::vector<Wall>& walls);

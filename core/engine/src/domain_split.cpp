@@ -400,7 +400,8 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   s.split.domains = std::move(domains);
   s.ranks = std::move(ranks);
   const Particles& p = s.particles;
-  const double rMax = *std::max_element(p.radius.begin(), p.radius.end());
+  const double rMax =
+      p.size() ? *std::max_element(p.radius.begin(), p.radius.end()) : s.contactScale.radius;
   // A hair over the pairs' largest distance, 2 R_max + skin, for the rounding of the brick's cut
   // planes against x ± halo.
   s.split.halo = (2.0 * rMax + s.neighbours.skin) * (1.0 + 1e-9);

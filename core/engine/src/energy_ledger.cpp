@@ -95,8 +95,9 @@ double slip(const SimulationState& s, std::string_view group) {
 
 }  // namespace
 
-EnergyBalance Simulation::energy() const {
-  const SimulationState& s = *state_;
+EnergyBalance Simulation::energy() const { return energyBalance(*state_); }
+
+EnergyBalance energyBalance(const SimulationState& s) {
   EnergyBalance b;
   const ParticleSums sums = particleSums(s);
   b.kineticTranslational = sums.translational.value();
@@ -125,6 +126,7 @@ EnergyBalance Simulation::energy() const {
   }
   b.gravityWork = potential - e.initialPotential;
   b.wallWork = e.wallWork;
+  b.exchanged = e.exchanged;
   return b;
 }
 

@@ -12,5 +12,7 @@ void startLedger(SimulationState& s);
 /// One step of `dt` [s] into the ledger, from the powers of the last force evaluation and of
 /// the one before it (`before`): Dissipated and Work by the trapezoid rule, Supplied summed.
 void addStepToLedger(SimulationState& s, const ContactPowers& before, double dt);
+/// The balance of `s` (Simulation::energy; collective in a run shared among processes).
+EnergyBalance energyBalance(const SimulationState& s);
 
 }  // namespace granular

@@ -258,6 +258,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
   list.meshGrid.assign(walls.size(), TriangleGrid{});
   for (std::size_t w = 0; w < walls.size(); ++w) {
+    if (walls[w].removed) continue;  // a gate opened touches nothing
     if (walls[w].shape == WallShape::Mesh) {
       const WallMesh& mesh = *walls[w].mesh;
       list.meshGrid[w] = listGrid(mesh.world, rMax, margin);

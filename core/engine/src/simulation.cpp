@@ -53,7 +53,11 @@ Simulation::Simulation(Particles particles, std::vector<Wall> walls, const Simul
   s.frictional = config.material.hasFriction();
   const Particles& p = s.particles;
   const std::size_t n = p.size();
-  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+  const double rMin = smallestRadius(p, config);
+  for (double m : p.mass) {
+    s.exchange.startMass.add(m);
+    s.exchange.net.add(m);
+  }
 
   // The stiffest binary contact: the accuracy floor's duration, and the step's limit while
   // there is no contact (physics.md §2.7, §2.16).

@@ -18,7 +18,7 @@ void Simulation::setSkin(double skin) {
                 "skin = " + shortNumber(skin) + " m: must be >= 0");
   SimulationState& s = *state_;
   const Particles& p = s.particles;
-  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+  const double rMin = smallestRadius(p, s.config);
   s.config.skin = skin;
   s.neighbours.skin = skin > 0 ? skin : 0.3 * rMin;
   s.neighbours.valid = false;  // rebuilt (history kept) at the next step
@@ -70,7 +70,7 @@ void Simulation::setMaterial(const Material& material) {
   validateMaterial(material);
   requireWallFrictionWithin(s.walls, material);
   const Particles& p = s.particles;
-  const double rMin = *std::min_element(p.radius.begin(), p.radius.end());
+  const double rMin = smallestRadius(p, s.config);
   const ContactScale scale = stiffestContact(material, rMin, s.config.impactSpeed);
   if (!s.stepLimitDisabled && !s.config.step.automatic) {
     if (material.hasFriction() == s.frictional) {

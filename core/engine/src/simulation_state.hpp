@@ -233,6 +233,18 @@ struct EnergyAccumulators {
   double initialStored[kEnergySlots] = {};
   double wallWork = 0;
   double initialPotential = 0;  ///< -Σ m g·x at the start [J]
+  double exchanged = 0;         ///< EnergyBalance::exchanged [J]
+};
+
+/// The particles' comings and goings (Simulation::exchangeParticles): counts, and masses summed
+/// exactly so that start + inserted − removed − held is zero to the bit.
+struct ExchangeTally {
+  ExactSum startMass, insertedMass, removedMass;
+  ExactSum net;  ///< start + inserted − removed, term by term
+  std::uint64_t inserted = 0, removed = 0;
+  std::vector<std::uint64_t> insertedBy;  ///< per source
+  /// Whether the run has exchanged any particle (the checkpoint's section is written then).
+  bool any() const { return inserted > 0 || removed > 0; }
 };
 
 // ---- 4. The state -------------------------------------------------------------------------
@@ -306,6 +318,7 @@ struct SimulationState {
   const RunPartition* partition = &wholeRun();
   ContactPowers powers;  ///< of the last force evaluation
   EnergyAccumulators energy;
+  ExchangeTally exchange;
   StepCounters counters;
 };
 

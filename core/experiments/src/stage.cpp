@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "granular/error.hpp"
+#include "granular/stage_exchange.hpp"
 
 namespace granular {
 
@@ -120,9 +121,11 @@ class QuietEnd {
       : stage_(stage), tolerance_(tolerance) {
     if (resume) belowSince_ = resume->belowSince;
   }
-  /// At stage time t, with `sim` in the state of that time: whether the stage ends.
-  bool reached(const Simulation& sim, double t) {
-    if (!stage_.end.kineticEnergyBelow || sim.kineticEnergy() >= *stage_.end.kineticEnergyBelow) {
+  /// At stage time t, with `sim` in the state of that time: whether the stage ends. A stage
+  /// that inserts particles is not quiet before its inserts are done (an empty silo is).
+  bool reached(const Simulation& sim, double t, const StageExchange& exchange) {
+    if (!stage_.end.kineticEnergyBelow || !exchange.insertsDone(sim) ||
+        sim.kineticEnergy() >= *stage_.end.kineticEnergyBelow) {
       belowSince_.reset();
       return false;
     }
@@ -146,13 +149,15 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
   const double resumedAt = resume ? resume->time.value_or(0.0) : 0.0;
   const double origin = sim.time() - resumedAt;  // the stage's t = 0 on the simulation's clock
   StageClock clock(output, observer, 1e-3 * output.interval);
+  StageExchange exchange(stage, 1e-3 * output.interval);
   if (resume) {
     clock.resumeAt(resumedAt);
+    exchange.resumeAt(resumedAt);
   } else {
     clock.observe(sim, 0.0);
   }
   QuietEnd quiet(stage, tolerance, resume);
-  if (!resume) quiet.reached(sim, 0.0);
+  if (!resume) quiet.reached(sim, 0.0, exchange);
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
@@ -173,7 +178,7 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
   // The longest step the control may choose: its accuracy floor.
   const double longest = sim.contactScale().duration / sim.config().step.contactResolution;
   while (t + tolerance < stage.end.maxTime) {
-    const double event = std::min(stage.end.maxTime, clock.nextEvent());
+    const double event = std::min({stage.end.maxTime, clock.nextEvent(), exchange.next()});
     if (event - t > double(run) * longest) {
       sim.run(run);  // whole steps: none reaches the event
     } else {
@@ -182,13 +187,14 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
     n = sim.stepCount() - start;
     t = sim.time() - origin;
     if (std::abs(t - event) <= tolerance) t = event;
+    exchange.apply(sim, t);  // before the samples, which then see the particles it leaves
     clock.observe(sim, t);
     if (observer.onProgress && observer.progressSteps > 0 &&
         n - lastProgress >= observer.progressSteps) {
       observer.onProgress(sim, stage);
       lastProgress = n;
     }
-    if (quiet.reached(sim, t)) {
+    if (quiet.reached(sim, t, exchange)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
     }
@@ -208,6 +214,13 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
 void beginStage(Simulation& sim, const StageSpec& stage) {
   if (stage.resetClock) sim.setTime(0.0);
   if (stage.placeTopWallOnSurface) placeTopWall(sim, stage);
+  for (const std::string& name : stage.removeWalls) {
+    const long index = sim.findWall(name);
+    if (index < 0) {
+      throw ConfigError("stage '" + stage.name + "': no wall named '" + name + "' to remove");
+    }
+    sim.removeWall(std::size_t(index));
+  }
   applyWallMotions(sim, stage);
 }
 
@@ -223,15 +236,17 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
   const double dt = sim.config().timeStep;
   const double tolerance = 1e-6 * dt;
   StageClock clock(output, observer, dt);
+  StageExchange exchange(stage, tolerance);
   if (resume) {
     clock.resumeAt(double(resume->steps) * dt);
+    exchange.resumeAt(double(resume->steps) * dt);
   } else {
     clock.observe(sim, 0.0);
   }
 
   QuietEnd quiet(stage, tolerance, resume);
   // The initial state counts towards the sustain time, but cannot end the stage.
-  if (!resume) quiet.reached(sim, 0.0);
+  if (!resume) quiet.reached(sim, 0.0, exchange);
 
   StageResult result;
   std::uint64_t n = resume ? resume->steps : 0;
@@ -247,7 +262,7 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
   auto seen = [&](std::uint64_t m) {
     const double t = double(m) * dt;
     return !(t + tolerance < stage.end.maxTime) || stage.end.kineticEnergyBelow.has_value() ||
-           clock.due(t) || progressDue(m) || checkpointDue(m);
+           clock.due(t) || exchange.due(t) || progressDue(m) || checkpointDue(m);
   };
   while (double(n) * dt + tolerance < stage.end.maxTime) {
     std::uint64_t batch = 1;
@@ -255,9 +270,10 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
     sim.run(batch);
     n += batch;
     const double t = double(n) * dt;
+    exchange.apply(sim, t);  // before the samples, which then see the particles it leaves
     clock.observe(sim, t);
     if (progressDue(n)) observer.onProgress(sim, stage);
-    if (quiet.reached(sim, t)) {
+    if (quiet.reached(sim, t, exchange)) {
       result.reason = StageEndReason::KineticEnergy;
       break;
     }

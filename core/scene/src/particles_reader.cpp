@@ -189,8 +189,8 @@ std::vector<Generator> readParticles(const TomlTableReader& root, const std::str
                                      const std::filesystem::path& folder, const BoxSpec& box,
                                      bool frictional, MotionBound& bound) {
   const toml::array* array = root.tableArray("particles");
-  if (!array) root.failMissing("particles");
   std::vector<Generator> generators;
+  if (!array) return generators;  // loadScene requires them unless a stage inserts particles
   for (std::size_t i = 0; i < array->size(); ++i) {
     const TomlTableReader r(*array->get(i)->as_table(), "particles[" + std::to_string(i) + "]",
                             file);

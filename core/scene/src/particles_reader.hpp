@@ -30,7 +30,8 @@ struct MotionBound {
   }
 };
 
-/// The generators of the [[particles]] array, in file order; `bound` takes in every particle.
+/// The generators of the [[particles]] array, in file order (none if it is absent); `bound`
+/// takes in every particle.
 std::vector<Generator> readParticles(const TomlTableReader& root, const std::string& file,
                                      const std::filesystem::path& folder, const BoxSpec& box,
                                      bool frictional, MotionBound& bound);

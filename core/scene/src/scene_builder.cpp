@@ -229,7 +229,9 @@ BuiltParticles build(const Scene& scene) {
       all.insert(all.end(), file.rows.begin(), file.rows.end());
     }
   }
-  if (all.empty()) throw ConfigError("the scene has no particles");
+  if (all.empty() && !(scene.simulation.smallestRadius > 0)) {
+    throw ConfigError("the scene has no particles");  // and no stage inserts any
+  }
   // Two generators may overlap each other: name the scene, its entry and the CSV line.
   const std::string prefix = scene.sourceFile.empty() ? "" : scene.sourceFile.string() + ": ";
   try {

@@ -146,8 +146,14 @@ std::uint64_t csvHash(const CsvGenerator& g) {
   return c.hash();
 }
 
+void hashRegion(Canonical& c, const Region& r) {
+  const auto& [shape, min, max, base, axis, length, radius] = r;
+  c << shape << min << max << base << axis << length << radius;
+}
+
 std::uint64_t stageHash(const StageSpec& s) {
-  const auto& [name, end, wallMotions, placeTopWallOnSurface, resetClock] = s;
+  const auto& [name, end, wallMotions, removeWalls, inserts, outlets, exchangeInterval,
+               placeTopWallOnSurface, resetClock] = s;
   const auto& [maxTime, kineticEnergyBelow, sustainTime] = end;
   Canonical c;
   c << name << maxTime << kineticEnergyBelow << sustainTime << placeTopWallOnSurface << resetClock
@@ -155,6 +161,26 @@ std::uint64_t stageHash(const StageSpec& s) {
   for (const WallMotion& motion : wallMotions) {
     const auto& [wall, velocity] = motion;
     c << wall << velocity;
+  }
+  // Only a stage that exchanges particles or opens a gate adds them: the others keep their
+  // fingerprints.
+  if (!removeWalls.empty() || !inserts.empty() || !outlets.empty()) {
+    c << std::string("exchange") << exchangeInterval << std::uint64_t(removeWalls.size());
+    for (const std::string& wall : removeWalls) c << wall;
+    c << std::uint64_t(inserts.size());
+    for (const InsertSpec& insert : inserts) {
+      const auto& [iname, region, count, rate, radiusMin, radiusMax, velocity, seed, source] =
+          insert;
+      c << iname;
+      hashRegion(c, region);
+      c << count << rate << radiusMin << radiusMax << velocity << seed << std::uint64_t(source);
+    }
+    c << std::uint64_t(outlets.size());
+    for (const OutletSpec& outlet : outlets) {
+      const auto& [oname, region] = outlet;
+      c << oname;
+      hashRegion(c, region);
+    }
   }
   return c.hash();
 }
@@ -179,8 +205,8 @@ SceneFingerprint fingerprintScene(const Scene& scene) {
   static_cast<void>(keyLocations);
   static_cast<void>(warnings);
   const std::string in = sourceFile.empty() ? " of the scene" : " in " + sourceFile.string();
-  const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads,
-               exactSums] = simulation;
+  const auto& [material, gravity, integrator, timeStep, step, skin, impactSpeed, threads, exactSums,
+               smallestRadius] = simulation;
   // The motion is the same bits for any thread count and either way of summing the energies and
   // wall reactions (simulation.exact_sums): a checkpoint written one way resumes the other.
   static_cast<void>(threads);
@@ -195,6 +221,7 @@ SceneFingerprint fingerprintScene(const Scene& scene) {
   if (step.automatic) {
     sim << std::string("auto") << step.safety << step.contactResolution << step.recheckSteps;
   }
+  if (smallestRadius > 0) sim << std::string("smallest radius") << smallestRadius;
   f.parts.push_back({"simulation", sim.hash(), "[simulation]" + in});
   // Apart from [simulation]: when not given, it is computed from the particles, and a message
   // about an edited particle file should not blame [simulation] for it.

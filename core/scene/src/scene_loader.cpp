@@ -38,6 +38,7 @@
 /// particles[i].speed_max     (grid)   | m/s   | >= 0                         | 0
 /// particles[i].seed          (grid)   | -     | integer >= 0                 | 1
 /// particles[i].file    (csv, state)   | -     | path from the scene's folder | required
+/// (particles may be absent when a stage inserts them)
 /// stages[i].name                      | -     | non-empty, unique            | "stage<i+1>"
 /// stages[i].max_time                  | s     | > 0, at most 1e12 time steps | required
 /// stages[i].kinetic_energy_below      | J     | > 0                          | none
@@ -45,6 +46,20 @@
 /// stages[i].place_top_wall_on_surface | -     | boolean                      | false
 /// stages[i].reset_clock               | -     | boolean                      | false
 /// stages[i].wall_velocity.<wall>      | m/s   | 3 finite numbers             | at rest
+/// stages[i].remove_walls              | -     | names of [[walls]], once     | []
+/// stages[i].exchange_interval         | s     | (0, max_time]                | 0.01
+/// stages[i].inserts[k].name           | -     | non-empty                    | "insert<n>"
+/// stages[i].inserts[k].shape          | -     | "box" | "cylinder"           | "box"
+/// stages[i].inserts[k].min, max (box) | m     | in the box, max > min        | required
+/// stages[i].inserts[k].base, axis     | m, -  | the cylinder in the box      | required
+/// stages[i].inserts[k].length, radius | m     | > 0                          | required
+/// stages[i].inserts[k].count          | -     | [1, 1e8]                     | required
+/// stages[i].inserts[k].rate           | 1/s   | > 0                          | required
+/// stages[i].inserts[k].radius_min     | m     | > 0                          | required
+/// stages[i].inserts[k].radius_max     | m     | >= radius_min, fits region   | required
+/// stages[i].inserts[k].velocity       | m/s   | 3 finite numbers             | [0, 0, 0]
+/// stages[i].inserts[k].seed           | -     | integer >= 0                 | 1
+/// stages[i].outlets[k].name, shape and region keys as an insert's
 /// output.interval                     | s     | > 0                          | 0.01
 /// output.snapshots                    | s     | numbers >= 0 (stage clock)   | []
 /// output.energy_drift_limit           | -     | > 0 (fraction of work done)  | 0.05
@@ -188,6 +203,32 @@ OutputSpec readOutput(const TomlTableReader& root, const std::string& file) {
   return output;
 }
 
+/// The particles the stages insert: the run starts with none if the file gives none, its
+/// smallest radius is theirs where smaller, and the time-step checks and the impact speed take
+/// them in (their speed, and their fall from the region's top).
+void takeInInserts(const TomlTableReader& root, Scene& scene, MotionBound& bound) {
+  bool inserts = false;
+  for (const StageSpec& stage : scene.stages) {
+    for (const InsertSpec& insert : stage.inserts) {
+      inserts = true;
+      bound.smallestRadius = std::min(bound.smallestRadius, insert.radiusMin);
+      bound.largestRadius = std::max(bound.largestRadius, insert.radiusMax);
+      bound.highestTop = std::max(bound.highestTop, insert.region.upper().z());
+      bound.fastest = std::max(bound.fastest, insert.velocity.norm());
+      scene.simulation.smallestRadius =
+          scene.simulation.smallestRadius > 0
+              ? std::min(scene.simulation.smallestRadius, insert.radiusMin)
+              : insert.radiusMin;
+    }
+  }
+  if (scene.generators.empty() && !inserts) root.failMissing("particles");
+  if (inserts && scene.totalMass) {
+    root.fail("total_mass",
+              "scales the density to a total mass, which a run that inserts particles does not "
+              "have; give material.density instead");
+  }
+}
+
 }  // namespace
 
 // 4. loadScene ------------------------------------------------------------------------------------
@@ -238,6 +279,7 @@ Scene loadScene(const std::filesystem::path& file) {
                  scene.simulation.step.automatic ? std::numeric_limits<double>::infinity()
                                                  : scene.simulation.timeStep);
   scene.output = readOutput(root, name);
+  takeInInserts(root, scene, bound);
   if (!impactSpeedGiven) {
     scene.simulation.impactSpeed =
         defaultImpactSpeed(bound, scene.box, scene.simulation.gravity, scene.stages, scene.walls);

@@ -50,7 +50,17 @@ inline constexpr std::string_view kStage[] = {"name",
                                               "sustain_time",
                                               "place_top_wall_on_surface",
                                               "reset_clock",
-                                              "wall_velocity"};
+                                              "wall_velocity",
+                                              "remove_walls",
+                                              "exchange_interval",
+                                              "inserts",
+                                              "outlets"};
+/// An insert's keys; a region is a box (min, max) or a cylinder (base, axis, length, radius).
+inline constexpr std::string_view kInsert[] = {
+    "name",   "shape", "min",  "max",        "base",       "axis",     "length",
+    "radius", "count", "rate", "radius_min", "radius_max", "velocity", "seed"};
+inline constexpr std::string_view kOutlet[] = {"name", "shape", "min",    "max",
+                                               "base", "axis",  "length", "radius"};
 inline constexpr std::string_view kOutput[] = {"interval", "snapshots", "energy_drift_limit",
                                                "on_failed_check"};
 
@@ -58,14 +68,11 @@ struct Table {
   std::string_view name;  ///< as docs/scenes.md heads its section: "" top level, "particles.grid"
   std::span<const std::string_view> keys;
 };
-inline constexpr Table kTables[] = {{"", kTopLevel},
-                                    {"simulation", kSimulation},
-                                    {"box", kBox},
-                                    {"walls", kWall},
-                                    {"particles.grid", kGridParticles},
-                                    {"particles.csv", kCsvParticles},
-                                    {"stages", kStage},
-                                    {"output", kOutput}};
+inline constexpr Table kTables[] = {
+    {"", kTopLevel},    {"simulation", kSimulation},        {"box", kBox},
+    {"walls", kWall},   {"particles.grid", kGridParticles}, {"particles.csv", kCsvParticles},
+    {"stages", kStage}, {"stages.inserts", kInsert},        {"stages.outlets", kOutlet},
+    {"output", kOutput}};
 
 inline std::vector<std::string_view> list(std::span<const std::string_view> keys) {
   return {keys.begin(), keys.end()};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <string_view>
 
+#include "exchange_reader.hpp"
 #include "scene_schema.hpp"
 
 namespace granular {
@@ -67,7 +68,9 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
   const toml::array* array = root.tableArray("stages");
   if (!array) root.failMissing("stages");
   std::vector<StageSpec> stages;
-  std::string topPlacedBy;  // name of the stage that placed the top wall, if any
+  std::string topPlacedBy;           // name of the stage that placed the top wall, if any
+  std::size_t sources = 0;           // inserts of the stages so far
+  std::vector<std::string> removed;  // walls the stages so far took away
   for (std::size_t i = 0; i < array->size(); ++i) {
     const TomlTableReader r(*array->get(i)->as_table(), "stages[" + std::to_string(i) + "]", file);
     r.expectOnly(scene_schema::list(scene_schema::kStage));
@@ -105,6 +108,7 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
     if (s.placeTopWallOnSurface) topPlacedBy = s.name;
     s.resetClock = r.boolean("reset_clock", false);
     s.wallMotions = readWallMotions(r, file, box, walls, box.walls[5] || !topPlacedBy.empty());
+    readStageExchange(r, file, box, walls, sources, removed, s);
     stages.push_back(std::move(s));
   }
   return stages;

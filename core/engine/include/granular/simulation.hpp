@@ -89,6 +89,11 @@ struct SimulationConfig {
   /// The particles' motion does not depend on it; sums over the particles (kinetic and
   /// potential energy) are always exact.
   bool exactSums = false;
+  /// The smallest radius the run will ever hold [m], where particles inserted later
+  /// (Simulation::exchangeParticles) may be smaller than those it starts with, or it starts
+  /// with none: the accuracy floor, the skin and the step's limit with no contact follow it.
+  /// 0: the starting particles' smallest (then there must be some).
+  double smallestRadius = 0.0;
 };
 
 /// One account of the contact energy ledger, as its term declares it (granular/contact_terms/).
@@ -109,6 +114,10 @@ struct EnergyBalance {
   std::vector<EnergyAccount> contact;
   double gravityWork = 0;  ///< work of gravity on the particles, Σ m g·(x - x₀) [J]
   double wallWork = 0;     ///< work of the moving walls on the particles [J]
+  /// Kinetic and contact-stored energy the particles inserted brought in minus what those
+  /// removed took out (Simulation::exchangeParticles), since the start [J]. Gravity's work on
+  /// a removed particle while it was held stays in gravityWork.
+  double exchanged = 0;
 
   /// The account with this column ("elastic_tangential_J"); throws std::out_of_range if the
   /// contact model declares none.
@@ -130,7 +139,7 @@ struct EnergyBalance {
     double sum = kineticTranslational + kineticRotational;
     for (const EnergyAccount& a : contact)
       sum += a.kind == EnergyKind::Supplied ? -a.value : a.value;
-    return sum - gravityWork - wallWork;
+    return sum - gravityWork - wallWork - exchanged;
   }
   double kinetic() const { return kineticTranslational + kineticRotational; }
 };
@@ -183,6 +192,32 @@ struct StepCheck {
   /// config.impactSpeed.
   double approachSpeed = 0;
   double chosenStep = 0;  ///< the step taken from then on [s]
+};
+
+/// The particles a run has held, taken in and let out (Simulation::exchangeParticles).
+struct ParticleTally {
+  std::uint64_t held = 0;      ///< particles now [-]
+  std::uint64_t inserted = 0;  ///< inserted since the start [-]
+  std::uint64_t removed = 0;   ///< removed since the start [-]
+  double heldMass = 0;         ///< Σ m of the particles now [kg]
+  double startMass = 0;        ///< Σ m of the particles the run started with [kg]
+  double insertedMass = 0;     ///< Σ m inserted since the start [kg]
+  double removedMass = 0;      ///< Σ m removed since the start [kg]
+  /// start + inserted − removed − held, each sum exact and the difference rounded once: zero,
+  /// exactly, unless a particle was made or lost outside an exchange [kg].
+  double massBalance = 0;
+};
+
+/// What one exchange does to the particles: removes some and inserts others.
+struct ParticleExchange {
+  /// Indices (of the whole state, Simulation::wholeState(), in a split run) of the particles
+  /// to remove, ascending and distinct.
+  std::vector<std::size_t> remove;
+  /// The particles to insert, appended after those that stay; they start with no contact
+  /// history and at rest in rotation unless given a spin.
+  Particles insert;
+  /// Which source inserts them (Simulation::insertedBy counts per source) [-].
+  std::size_t source = 0;
 };
 
 /// One contact as seen from particle i, for stress averaging (Eq. 1), figures and the
@@ -292,6 +327,24 @@ class Simulation {
   bool owns(std::size_t i) const;
   /// The ranks a split run is shared among (splitAmong); null for a run in one process.
   const Communicator* ranks() const;
+  /// Removes and inserts particles between two steps (a silo's outlet and its filling):
+  /// `decide` gets the whole run's particles (gathered in a split run, where every rank calls
+  /// this with the same `decide`) and says what to remove and insert. The surviving pairs and
+  /// wall contacts keep their springs; the contact forces and accelerations are re-evaluated at
+  /// the current state; the energy ledger's `exchanged` account takes the kinetic and stored
+  /// energy that came and went, so the balance stays closed; the tallies count the particles
+  /// and their mass exactly (particleTally). Throws ConfigError, nothing changed, on an index
+  /// out of range or not ascending, or on an inserted particle that is not valid (radius, mass,
+  /// finite motion; smaller than SimulationConfig::smallestRadius). Particle indices after it
+  /// are those of the survivors in their order, then the inserted ones.
+  void exchangeParticles(const std::function<ParticleExchange(const Particles& whole)>& decide);
+  /// The particles held, inserted and removed, and their masses (collective in a split run).
+  ParticleTally particleTally() const;
+  /// Particles inserted by `source` since the start (ParticleExchange::source) [-].
+  std::uint64_t insertedBy(std::size_t source) const;
+  /// Takes a wall away (a gate opened): it touches nothing from the next step on and keeps its
+  /// index and name, with a zero reaction (Wall::removed). Its contacts' springs are dropped.
+  void removeWall(std::size_t wall);
   /// Sets a wall's prescribed velocity [m/s].
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.

@@ -59,6 +59,9 @@ struct Wall {
   /// not the particles' own (every other value of the contact law is the particles'). A
   /// wall's friction > 0 needs frictional particles.
   std::optional<double> friction = std::nullopt;
+  /// Taken away (a gate opened, Simulation::removeWall): it touches nothing, draws nothing, and
+  /// keeps its index and name so that the outputs keep their columns.
+  bool removed = false;
   /// A mesh wall's triangles (shared by copies of the state; posed anew when it moves).
   std::shared_ptr<const WallMesh> mesh = nullptr;
 
@@ -67,5 +70,10 @@ struct Wall {
   /// The velocity of the wall's material point at `at` [m/s].
   Vec3 velocityAt(const Vec3& at) const { return velocity + angularVelocity.cross(at - pivot); }
 };
+
+/// The distance of x from the wall's surface: signed for an infinite plane (negative behind
+/// it), ≥ 0 for a shell [m]. A mesh's is found over all its triangles: for set-up work (placing
+/// particles), not for every step.
+double surfaceDistance(const Wall& w, const Vec3& x);
 
 }  // namespace granular

@@ -72,10 +72,60 @@ struct WallMotion {
   Vec3 velocity = Vec3::Zero();  ///< [m/s]
 };
 
+/// A region of space particles are inserted into or removed from: a box, or a cylinder (any
+/// axis).
+struct Region {
+  enum class Shape : std::uint8_t { Box, Cylinder };
+  Shape shape = Shape::Box;
+  Vec3 min = Vec3::Zero();    ///< a box's lower corner [m]
+  Vec3 max = Vec3::Zero();    ///< a box's upper corner [m]
+  Vec3 base = Vec3::Zero();   ///< the centre of a cylinder's base [m]
+  Vec3 axis = Vec3::UnitZ();  ///< a cylinder's unit axis, from its base [-]
+  double length = 0;          ///< a cylinder's extent along its axis [m]
+  double radius = 0;          ///< a cylinder's radius [m]
+  /// Whether a sphere of radius r centred at x lies inside (r = 0: whether x does).
+  bool holds(const Vec3& x, double r = 0.0) const;
+  Vec3 lower() const;  ///< the corner of its bounding box with the smallest coordinates [m]
+  Vec3 upper() const;  ///< the opposite corner [m]
+};
+
+/// Particles inserted into a region during a stage, at a steady rate, until `count` are in:
+/// each exchange of the stage (StageSpec::exchangeInterval) inserts those due by then, placed at
+/// random where they touch no particle and no wall, with radii uniform in [radiusMin,
+/// radiusMax], the particles' density and `velocity`. The same particles for a given seed,
+/// whatever the thread or process count; a particle that finds no room comes at a later
+/// exchange.
+struct InsertSpec {
+  std::string name = "insert";
+  Region region;
+  std::uint64_t count = 0;       ///< particles in all [-]
+  double rate = 0;               ///< particles per second of stage time [1/s]
+  double radiusMin = 0;          ///< [m]
+  double radiusMax = 0;          ///< [m]
+  Vec3 velocity = Vec3::Zero();  ///< [m/s]
+  std::uint64_t seed = 1;
+  /// The run's tally of this insert (Simulation::insertedBy): its index among every stage's
+  /// inserts, in the order of the file.
+  std::size_t source = 0;
+};
+
+/// A region that removes every particle whose centre enters it, at each exchange of the
+/// stage: an outlet under a silo's orifice. The mass it takes is the run's discharged mass.
+struct OutletSpec {
+  std::string name = "outlet";
+  Region region;
+};
+
 struct StageSpec {
   std::string name = "stage";
   StageEnd end;
   std::vector<WallMotion> wallMotions;
+  /// Walls taken away when the stage starts (a gate opened: Simulation::removeWall).
+  std::vector<std::string> removeWalls;
+  std::vector<InsertSpec> inserts;
+  std::vector<OutletSpec> outlets;
+  /// Stage time between two exchanges of particles by the inserts and outlets [s].
+  double exchangeInterval = 0.01;
   /// Adds the top wall at the highest particle surface max(z_i + R_i) when the stage starts.
   bool placeTopWallOnSurface = false;
   /// Starts the stage's own clock at t = 0 (the paper's stage 2).
@@ -125,6 +175,14 @@ struct Scene {
   /// at rest): the commands print them as warnings. Empty for a scene built in C++.
   std::vector<std::string> warnings;
 };
+
+/// Whether a stage of the scene inserts or removes particles (its outputs then count them).
+inline bool exchangesParticles(const Scene& scene) {
+  for (const StageSpec& stage : scene.stages) {
+    if (!stage.inserts.empty() || !stage.outlets.empty()) return true;
+  }
+  return false;
+}
 
 /// A stage's name as output file names carry it: every character outside [A-Za-z0-9_-] becomes
 /// '_'. loadScene refuses two stages whose names map to the same file name.
