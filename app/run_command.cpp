@@ -425,7 +425,9 @@ int runScene(const RunOptions& options) {
       };
       // A stage that had begun continues where its checkpoint left it; one that had not
       // (steps = 0: checkpoints inside a stage follow at least one step) starts with its set-up.
-      const StageProgress resumeAt = progress.inStage;
+      StageProgress resumeAt = progress.inStage;
+      // The stage's origin is the run's record of it (an automatic step aims at its times).
+      if (resumeAt.time) resumeAt.origin = progress.stageOrigin;
       const bool continuing = resumeAt.steps > 0;
       // The stage's t = 0 on the simulation's clock (runStage resets the clock where asked).
       if (!continuing) progress.stageOrigin = stage.resetClock ? 0.0 : sim.time();

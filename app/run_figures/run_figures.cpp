@@ -24,7 +24,7 @@ constexpr double kDpi = 150.0;  // as the paper's figures
 bool isRunFigure(const std::string& name) {
   if (!name.ends_with(".png")) return false;
   for (const char* fixed :
-       {"energies.png", "kinetic_energy.png", "wall_reactions.png", "contacts.png"}) {
+       {"energies.png", "kinetic_energy.png", "wall_reactions.png", "contacts.png", "mass.png"}) {
     if (name == fixed) return true;
   }
   return name.starts_with("particles_") || name.starts_with("wall_pressure_");
@@ -78,6 +78,7 @@ RunFigureSet drawRunFigures(const std::filesystem::path& runDir) {
       set.missing.push_back("wall_reactions.png (the scene has no walls)");
     }
     save(contactFigure(series), "contacts.png");
+    if (auto image = massFigure(series)) save(*image, "mass.png");
   }
 
   const std::vector<SnapshotFiles> snapshots = listSnapshots(runDir);

@@ -172,4 +172,18 @@ render::Image contactFigure(const RunSeries& s) {
   return render::drawPlot(p);
 }
 
+std::optional<render::Image> massFigure(const RunSeries& s) {
+  const std::vector<std::string>& h = s.table.header;
+  if (std::find(h.begin(), h.end(), "mass_held_kg") == h.end()) return std::nullopt;
+  PlotSpec p = basePlot(s, "Particles in and out", "mass [kg]");
+  int index = 0;
+  for (const auto& [name, label] : {std::pair<const char*, const char*>{"mass_held_kg", "held"},
+                                    {"mass_inserted_kg", "inserted"},
+                                    {"mass_discharged_kg", "discharged"}}) {
+    p.series.push_back(line(s, s.table.column(name), index++, label));
+  }
+  markStages(s, p);
+  return render::drawPlot(p);
+}
+
 }  // namespace granular::app

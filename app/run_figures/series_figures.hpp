@@ -38,5 +38,8 @@ std::optional<render::Image> kineticFigure(const RunSeries& series);
 std::optional<render::Image> reactionFigure(const RunSeries& series);
 /// Every contacts_* column.
 render::Image contactFigure(const RunSeries& series);
+/// The masses held, inserted and discharged (a scene whose stages insert or remove
+/// particles); nullopt when the series has no such columns.
+std::optional<render::Image> massFigure(const RunSeries& series);
 
 }  // namespace granular::app

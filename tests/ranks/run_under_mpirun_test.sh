@@ -13,6 +13,10 @@
 #               and so is that run stopped by a NaN and resumed alone; without exact sums, only
 #               the energy and wall-reaction columns of timeseries.csv and the walls' ParaView
 #               files differ, and the reactions do
+#   exchange    (a scene that pours particles in and discharges them: tests/scenes/discharge.toml)
+#               every file but the checkpoint is the same bytes on 1, 2 and 3 ranks; a rank
+#               killed mid-discharge, --resume on 3 ranks ends with the files of the
+#               uninterrupted run
 #   sigterm     SIGTERM to mpirun: mpirun exits 1 (OpenMPI's own status for a signal it
 #               received), the ranks write the checkpoint and say so in one line; resumed alone
 #               with exact_sums it ends with the files of the uninterrupted run alone
@@ -121,6 +125,39 @@ case "$case_name" in
       fail "resuming failed: $(cat resume.log)"
     grep -q "^resuming" resume.log || fail "it did not resume: $(cat resume.log)"
     same_files whole killed
+    ;;
+  exchange)
+    for n in 1 2 3; do
+      ranks "$n" run "$scene" --out "np$n" --quiet >"np$n.log" 2>"np$n.err" || fail "np$n failed"
+    done
+    same_files np1 np2
+    same_files np1 np3
+    grep -q 'mass_discharged_kg' np1/timeseries.csv || fail "no discharged mass in the series"
+    # Killed once the outlet has taken particles (the checkpoint's tally says so).
+    ranks 2 run "$scene" --out killed --quiet --checkpoint-every 1e-9 >killed.log 2>&1 &
+    job=$!
+    for _ in $(seq 300); do
+      if [[ -f killed/timeseries.csv ]] &&
+        awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "particles") c = i }
+                 NR > 1 && $1 == "discharge" && $c < 300 { found = 1 } END { exit !found }' \
+          killed/timeseries.csv; then
+        break
+      fi
+      sleep 0.05
+    done
+    victim=$(pgrep -f "^$granular run $scene --out killed" | tail -1)
+    [[ -n "$victim" ]] || fail "no rank to kill (the run ended first?)"
+    kill -9 "$victim"
+    set +e
+    wait "$job"
+    status=$?
+    set -e
+    ((status != 0 && status != 124)) || fail "the job with a killed rank: exit $status"
+    [[ ! -f killed/summary.txt ]] || fail "killed after it had finished"
+    ranks 3 run "$scene" --out killed --quiet --resume >resume.log 2>&1 ||
+      fail "resuming failed: $(cat resume.log)"
+    grep -q "^resuming" resume.log || fail "it did not resume: $(cat resume.log)"
+    same_files np1 killed
     ;;
   faults)
     sed 's/^friction = 0.3/friction = -1/' "$scene" >bad.toml

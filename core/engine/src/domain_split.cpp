@@ -226,12 +226,12 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
     return pick(
         k, [](const ParticleRecord& r) { return r.id; }, [&](std::size_t i) { return idOf(s, i); });
   });
-  // A field the state does not hold (no entries) stays so; one it always holds is gathered
-  // even where this rank held no particles.
+  // A field the run does not hold (rotations without friction) stays empty; one it holds is
+  // gathered even where this rank held no particles (a run that starts empty and is filled).
   forEachRecordField([&](const auto& field, std::size_t at) {
     using Field = std::remove_cvref_t<decltype(field)>;
     auto& values = arrayOf(field, s);
-    if ((Field::needs & ~unsigned{kGhost}) != kAlways && values.empty()) return;
+    if (!holds(s, Field::needs & ~unsigned{kGhost})) return;
     regather(values, n, [&](std::size_t k) -> typename Field::Value {
       if (isRecord[k]) return loadDoubles<typename Field::Value>(records[from[k]].value + at);
       return values[from[k]];

@@ -162,8 +162,8 @@ void exchangeWhole(SimulationState& s, const ParticleExchange& x) {
     }
   }
   const std::size_t kept = next, added = x.insert.size();
-  auto compact = [&](const FieldSpec&, auto& array) {
-    if (array.size() != n) return;  // a field this run does not hold
+  auto compact = [&](const FieldSpec& field, auto& array) {
+    if (!holds(s, field.needs)) return;  // a field this run does not hold (Gear's with Verlet)
     keepEntries(array, [&](std::size_t i) { return newIndex[i] != kGone; });
   };
   forEachParticleField(s.particles, compact);
@@ -176,8 +176,8 @@ void exchangeWhole(SimulationState& s, const ParticleExchange& x) {
     std::fill(s.particles.angularVelocity.begin() + std::ptrdiff_t(kept),
               s.particles.angularVelocity.end(), Vec3::Zero());
   }
-  forEachMotionField(s, [&](const FieldSpec&, auto& array) {
-    if (array.size() == kept) array.resize(kept + added);  // zero: value-initialised
+  forEachMotionField(s, [&](const FieldSpec& field, auto& array) {
+    if (holds(s, field.needs)) array.resize(kept + added);  // zero: value-initialised
   });
   renumberList(s.neighbours, newIndex, kept + added, s.frictional);
 

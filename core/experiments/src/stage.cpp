@@ -147,7 +147,8 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
                               const StageObserver& observer, const StageProgress* resume) {
   const double tolerance = 1e-9 * output.interval;
   const double resumedAt = resume ? resume->time.value_or(0.0) : 0.0;
-  const double origin = sim.time() - resumedAt;  // the stage's t = 0 on the simulation's clock
+  // The stage's t = 0 on the simulation's clock.
+  const double origin = resume && resume->origin ? *resume->origin : sim.time() - resumedAt;
   StageClock clock(output, observer, 1e-3 * output.interval);
   StageExchange exchange(stage, 1e-3 * output.interval);
   if (resume) {
@@ -200,7 +201,7 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
     }
     if (observer.onCheckpoint && observer.checkpointSteps > 0 &&
         n - lastCheckpoint >= observer.checkpointSteps) {
-      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), t});
+      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), t, origin});
       lastCheckpoint = n;
     }
   }
@@ -278,7 +279,7 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
       break;
     }
     if (checkpointDue(n))
-      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), std::nullopt});
+      observer.onCheckpoint(sim, StageProgress{n, quiet.belowSince(), std::nullopt, std::nullopt});
   }
   result.steps = n;
   result.duration = double(n) * dt;

@@ -26,6 +26,9 @@ struct StageProgress {
   std::optional<double> belowSince;  ///< stage time since which the kinetic energy is low [s]
   /// The stage time [s] with an automatic step (a fixed one's is steps · Δt).
   std::optional<double> time;
+  /// The simulation clock at the stage's t = 0 [s] (automatic step): the resumed stage aims its
+  /// steps at the same clock times to the bit (the clock less the stage time may round).
+  std::optional<double> origin;
 };
 
 /// Callbacks of a running stage; any may be empty.
