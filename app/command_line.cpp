@@ -138,6 +138,28 @@ CommandLine::CommandLine(std::shared_ptr<const Communicator> ranks) : ranks_(std
       ->check(kNonEmptyPath);
   calibrateCommand_->add_flag("-q,--quiet", calibrate_.quiet, "No progress lines on stderr");
 
+  silo_.scene = std::filesystem::path(GRANULAR_SCENES_DIR) / "silo-study.toml";
+  siloCommand_ = app_.add_subcommand(
+      "silo",
+      "The silo study: fill a silo by pouring, measure its wall pressures against Janssen's law, "
+      "discharge it through four orifices against Beverloo's; report.md, tables and figures");
+  siloCommand_->add_option("-o,--out", silo_.outDir, "Output folder (default: runs/silo)")
+      ->check(kNonEmptyPath);
+  siloCommand_
+      ->add_option("--scene", silo_.scene,
+                   "The silo scene (default: the installed silo-study.toml; its walls' names "
+                   "are the study's, docs/guide.md)")
+      ->check(kNonEmptyPath);
+  siloCommand_
+      ->add_option("--particles", silo_.particles,
+                   "Particles poured in (default: the scene's, 10000); more for a taller bed")
+      ->check(CLI::Range(std::uint64_t{100}, std::uint64_t{100'000'000}));
+  siloCommand_
+      ->add_option("--discharge-time", silo_.dischargeTime,
+                   "Each orifice's discharge [s] (default 1)")
+      ->check(CLI::Range(0.05, 1e4));
+  siloCommand_->add_flag("-q,--quiet", silo_.quiet, "No progress lines on stderr");
+
   figuresCommand_ = app_.add_subcommand(
       "figures",
       "Draw the figures of a `granular run` folder, or re-draw every figure of a `granular "
@@ -193,6 +215,7 @@ int CommandLine::run(int argc, char** argv) {
   if (root) {
     if (*paperCommand_) code = paperCommand(paper_);
     if (*calibrateCommand_) code = calibrateCommand(calibrate_);
+    if (*siloCommand_) code = siloCommand(silo_);
     if (*figuresCommand_) {
       code =
           isRunFolder(figuresDir_) ? runFiguresCommand(figuresDir_) : figuresCommand(figuresDir_);

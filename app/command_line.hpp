@@ -9,6 +9,7 @@
 #include "granular/communicator.hpp"
 #include "paper_command.hpp"
 #include "run_command.hpp"
+#include "silo_command.hpp"
 
 namespace granular::app {
 
@@ -31,11 +32,13 @@ class CommandLine {
   RunOptions run_;
   PaperOptions paper_;
   CalibrateOptions calibrate_;
+  SiloOptions silo_;
   std::filesystem::path figuresDir_;
   CLI::App* runCommand_ = nullptr;
   CLI::App* paperCommand_ = nullptr;
   CLI::App* calibrateCommand_ = nullptr;
   CLI::App* figuresCommand_ = nullptr;
+  CLI::App* siloCommand_ = nullptr;
 };
 
 }  // namespace granular::app

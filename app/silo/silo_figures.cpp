@@ -1,0 +1,164 @@
+/// drawSiloFigures (silo_figures.hpp).
+#include "silo_figures.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "granular/beverloo.hpp"
+#include "granular/janssen.hpp"
+#include "granular/render/plot.hpp"
+
+namespace granular::app {
+
+namespace {
+
+constexpr double kDpi = 150.0;  // as the other figures
+
+render::PlotSpec basePlot(const std::string& title, const std::string& x, const std::string& y) {
+  render::PlotSpec p;
+  p.title = title;
+  p.xLabel = x;
+  p.yLabel = y;
+  p.style = render::FigureStyle::forDpi(kDpi);
+  p.width = 1200;
+  p.height = 900;
+  p.grid = true;
+  return p;
+}
+
+std::string orificeLabel(const SiloDischarge& d, double diameter) {
+  char text[80];
+  std::snprintf(text, sizeof text, "D₀ = %.3f m (%.1f d)", d.orifice, d.orifice / diameter);
+  return text;
+}
+
+/// The middle heights of the levels [m].
+std::vector<double> middles(const SiloStudyResult& r) {
+  std::vector<double> z;
+  for (const SiloLevel& l : r.levels) z.push_back(0.5 * (l.zLow + l.zHigh));
+  return z;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, double gravity,
+                                                   const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> written;
+  auto save = [&](const render::PlotSpec& spec, const std::string& name) {
+    render::writePng(render::drawPlot(spec), dir / name, kDpi);
+    written.push_back(dir / name);
+  };
+  const std::vector<double> z = middles(r);
+
+  // p_h(z): at rest with its scatter, and during each discharge.
+  {
+    render::PlotSpec p = basePlot("Wall pressure", "p_h [Pa]", "z [m]");
+    render::Series rest;
+    rest.label = "at rest";
+    rest.width = 2.2;
+    rest.marker = render::Marker::Circle;
+    render::Series low, high;
+    for (const SiloLevel& l : r.levels) {
+      rest.x.push_back(l.wallPressure);
+      low.x.push_back(l.wallPressure - l.wallPressureStd);
+      high.x.push_back(l.wallPressure + l.wallPressureStd);
+    }
+    rest.y = low.y = high.y = z;
+    low.dash = high.dash = render::Series::Dotted;
+    low.width = high.width = 1.0;
+    low.label = "at rest ± its scatter";
+    rest.color = low.color = high.color = render::categorical(0);
+    p.series = {rest, low, high};
+    int index = 1;
+    for (const SiloDischarge& d : r.discharges) {
+      if (!d.flowed) continue;
+      render::Series s;
+      s.x = d.wallPressure;
+      s.y = z;
+      s.color = render::categorical(index++);
+      s.width = 1.6;
+      s.label = "discharging, " + orificeLabel(d, r.particleDiameter);
+      p.series.push_back(s);
+    }
+    p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
+    save(p, "wall_pressure.png");
+  }
+
+  // σ_v(z) with Janssen's curve and the hydrostatic line.
+  {
+    render::PlotSpec p = basePlot("Vertical stress at rest", "σ_v [Pa]", "z [m]");
+    render::Series measured;
+    measured.label = "Eq. (1) over slices";
+    measured.width = 0;
+    measured.marker = render::Marker::Circle;
+    measured.markerSize = 8;
+    for (const SiloLevel& l : r.levels) {
+      measured.x.push_back(l.verticalStress);
+      measured.y.push_back(0.5 * (l.zLow + l.zHigh));
+    }
+    render::Series janssen, hydrostatic;
+    const double rh = circleHydraulicRadius(2.0 * r.radius);
+    const double gamma = r.bulkDensity * gravity;
+    const double bottom = r.levels.empty() ? 0.0 : r.levels.front().zLow;
+    for (int k = 0; k <= 100; ++k) {
+      const double height = bottom + (r.surface - bottom) * k / 100.0;
+      const double depth = r.surface - height;
+      if (r.janssen.lambda > 0) {
+        janssen.x.push_back(janssenVerticalStress(depth, gamma, rh, r.janssen.lambda));
+        janssen.y.push_back(height);
+      }
+      hydrostatic.x.push_back(gamma * depth);
+      hydrostatic.y.push_back(height);
+    }
+    char label[96];
+    std::snprintf(label, sizeof label, "Janssen, λ = μ_w K = %.3f (RMS %.1f %%)", r.janssen.lambda,
+                  100 * r.janssen.rmsRelativeResidual);
+    janssen.label = label;
+    janssen.width = 2.2;
+    janssen.color = render::categorical(1);
+    hydrostatic.label = "hydrostatic, ρ_b g h";
+    hydrostatic.dash = render::Series::Dashed;
+    hydrostatic.color = render::categorical(2);
+    measured.color = render::categorical(0);
+    p.series = {measured, janssen, hydrostatic};
+    p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
+    save(p, "vertical_stress.png");
+  }
+
+  // Discharged mass against time, with each orifice's Beverloo line through its steady window.
+  {
+    render::PlotSpec p = basePlot("Discharge", "time since the orifice opened [s]",
+                                  "discharged mass [kg]");
+    p.height = 750;
+    int index = 0;
+    for (const SiloDischarge& d : r.discharges) {
+      render::Series s;
+      s.x = d.time;
+      s.y = d.discharged;
+      s.color = render::categorical(index);
+      s.width = 2.0;
+      s.label = orificeLabel(d, r.particleDiameter);
+      p.series.push_back(s);
+      if (d.flowed && r.beverlooFitted) {
+        const double w = beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, gravity,
+                                      d.orifice, r.particleDiameter);
+        // Through the middle of the steady window at Beverloo's slope.
+        const double tm = 0.5 * (d.steady.t0 + d.steady.t1);
+        const double mm = d.steady.intercept + d.steady.rate * tm;
+        render::Series line;
+        line.x = {d.steady.t0, d.steady.t1};
+        line.y = {mm + w * (d.steady.t0 - tm), mm + w * (d.steady.t1 - tm)};
+        line.color = render::categorical(index);
+        line.dash = render::Series::Dashed;
+        line.width = 1.4;
+        if (index == 0) line.label = "Beverloo, fitted C and k";
+        p.series.push_back(line);
+      }
+      ++index;
+    }
+    save(p, "discharge.png");
+  }
+  return written;
+}
+
+}  // namespace granular::app

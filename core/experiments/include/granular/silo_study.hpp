@@ -1,0 +1,84 @@
+#pragma once
+/// The silo study of `granular silo`: a cylindrical silo with a flat floor is filled by pouring
+/// (the scene's first stage), its wall pressures and vertical stresses are measured at rest, and
+/// it is discharged through each of its orifices in turn from the same settled bed.
+///
+/// The scene names its walls: "wall", the cylinder (axis +z, base on the floor); "gate", the disc
+/// closing the smallest orifice; "ring1" … "ringN", annuli each widening the orifice to its outer
+/// radius; "floor", the annulus out to the cylinder. Orifice k (1-based) opens by taking away the
+/// gate and rings 1 … k − 1, so the orifices are the gate's diameter and the rings' outer
+/// diameters.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "granular/beverloo.hpp"
+#include "granular/discharge_rate.hpp"
+#include "granular/janssen.hpp"
+#include "granular/scene.hpp"
+#include "granular/slice_stress.hpp"
+#include "granular/wall_bands.hpp"
+
+namespace granular {
+
+/// How the study measures.
+struct SiloStudyOptions {
+  double restWindow = 0.2;       ///< time the settled bed is sampled over [s]
+  double sampleInterval = 0.01;  ///< between samples, at rest and during discharge [s]
+  double bandHeight = 0.0;       ///< bands and slices [m]; 0: two mean particle diameters
+  double dischargeTime = 1.0;    ///< each discharge's length [s]
+  /// Called every few hundred steps with what runs ("fill", "rest", "orifice 2 of 4").
+  std::function<void(const Simulation&, const std::string& phase)> onProgress;
+};
+
+/// One height of the bed at rest: the wall's band and the section's slice at the same heights.
+struct SiloLevel {
+  double zLow = 0, zHigh = 0;  ///< [m]
+  double depth = 0;            ///< of the level's middle below the bed's surface [m]
+  double wallPressure = 0;     ///< p_h, the mean over the samples [Pa]
+  double wallPressureStd = 0;  ///< its scatter over the samples [Pa]
+  double wallShear = 0;        ///< upward shear of the wall on the bed, τ_w [Pa]
+  double verticalStress = 0;   ///< σ_v of Eq. (1) over the slice, the mean [Pa]
+  double bulkDensity = 0;      ///< the slice's mass over its volume, the mean [kg/m³]
+  double lateralRatio = 0;     ///< K = p_h / σ_v [-]
+  double mobilisedFriction = 0;  ///< τ_w / p_h [-]
+  bool inBed = false;  ///< wholly below the surface and above the floor's first diameter
+};
+
+/// One orifice's discharge.
+struct SiloDischarge {
+  double orifice = 0;              ///< D₀ [m]
+  std::vector<double> time;        ///< since the orifice opened [s]
+  std::vector<double> discharged;  ///< mass discharged by then [kg]
+  SteadyRate steady;               ///< the steady rate, 20-80 % of what it discharged
+  /// p_h per level during the steady window (the switch from the filling pressures) [Pa].
+  std::vector<double> wallPressure;
+  bool flowed = false;  ///< enough left for a steady rate (else it jammed or barely ran)
+};
+
+struct SiloStudyResult {
+  double gravity = 9.81;        ///< |g| [m/s²]
+  double radius = 0;            ///< the cylinder's [m]
+  double particleDiameter = 0;  ///< the mean of the particles' [m]
+  double surface = 0;           ///< the bed's surface: its height at its mean bulk density [m]
+  double bedMass = 0;           ///< [kg]
+  double bulkDensity = 0;       ///< mean over the levels in the bed [kg/m³]
+  double fillSeconds = 0;       ///< wall-clock time of the fill [s]
+  std::vector<SiloLevel> levels;
+  std::size_t restSamples = 0;
+  JanssenFit janssen;  ///< λ fitted to σ_v over the levels in the bed, γ = ρ_b g
+  /// λ measured: the mean over the levels in the bed of τ_w / σ_v = μ_mob K [-].
+  double lambdaMeasured = 0;
+  double lateralRatio = 0;       ///< K, the mean over the levels in the bed [-]
+  double mobilisedFriction = 0;  ///< μ_mob, the mean over the levels in the bed [-]
+  std::vector<SiloDischarge> discharges;
+  BeverlooFit beverloo;  ///< over the orifices that flowed
+  bool beverlooFitted = false;
+};
+
+/// Runs the study on the scene (its first stage fills the silo). Throws ConfigError naming a
+/// wall the scene lacks or has of the wrong shape.
+SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options);
+
+}  // namespace granular
