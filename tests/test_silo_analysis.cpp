@@ -1,5 +1,6 @@
-/// The silo analyses against closed forms: Janssen's curve, its limits and its fits. Every
-/// expected value is derived by hand in the test's comment.
+/// The silo analyses against closed forms: Janssen's curve, its limits and its fits; Beverloo's
+/// law and its fit; the steady rate of a discharge. Every expected value is derived by hand in
+/// the test's comment.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "granular/beverloo.hpp"
+#include "granular/discharge_rate.hpp"
 #include "granular/janssen.hpp"
 
 using namespace granular;
@@ -200,4 +203,190 @@ TEST(Janssen, FitRefusesBadInput) {
       },
       "compression positive");
   expectRefused([&] { janssenVerticalStress(0.1, kGamma, 0.05, -0.1); }, "lambda must be >= 0");
+}
+
+// ---- Beverloo -----------------------------------------------------------------------------------
+
+namespace {
+
+constexpr double kRhoBulk = 600.0, kG = 9.81, kParticle = 0.004;
+constexpr double kC = 0.58, kK = 1.5;
+
+std::vector<double> orificeSizes() {
+  return {0.02, 0.025, 0.03, 0.04, 0.05, 0.06};
+}
+
+std::vector<double> beverlooData(const std::vector<double>& orifices) {
+  std::vector<double> w;
+  for (double d0 : orifices) w.push_back(beverlooRate(kC, kK, kRhoBulk, kG, d0, kParticle));
+  return w;
+}
+
+/// Σ ((W_fit − W)/W)², the sum the refinement minimises [-].
+double beverlooSumOfSquares(const std::vector<double>& orifices, const std::vector<double>& rates,
+                            const BeverlooFit& fit) {
+  double sum = 0;
+  for (std::size_t i = 0; i < orifices.size(); ++i) {
+    const double r =
+        (beverlooRate(fit.c, fit.k, kRhoBulk, kG, orifices[i], kParticle) - rates[i]) / rates[i];
+    sum += r * r;
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(Beverloo, RateFollowsTheLawAndJams) {
+  // D₀ = 0.05 m, k d = 0.006 m: W = 0.58 · 600 · √9.81 · 0.044^(5/2) kg/s.
+  EXPECT_NEAR(beverlooRate(kC, kK, kRhoBulk, kG, 0.05, kParticle),
+              0.58 * 600.0 * std::sqrt(9.81) * 0.044 * 0.044 * std::sqrt(0.044), 1e-15);
+  // Doubling the effective diameter D₀ − k d multiplies W by 2^(5/2) = 4√2.
+  const double w1 = beverlooRate(kC, kK, kRhoBulk, kG, 0.006 + 0.01, kParticle);
+  const double w2 = beverlooRate(kC, kK, kRhoBulk, kG, 0.006 + 0.02, kParticle);
+  EXPECT_NEAR(w2 / w1, 4.0 * std::sqrt(2.0), 1e-12);
+  // An orifice no wider than k d jams.
+  EXPECT_EQ(beverlooRate(kC, kK, kRhoBulk, kG, 0.006, kParticle), 0.0);
+  EXPECT_EQ(beverlooRate(kC, kK, kRhoBulk, kG, 0.005, kParticle), 0.0);
+}
+
+TEST(Beverloo, FitRecoversCAndKFromExactRates) {
+  const std::vector<double> d0 = orificeSizes();
+  for (bool refine : {false, true}) {
+    const BeverlooFit fit = fitBeverloo(d0, beverlooData(d0), kRhoBulk, kG, kParticle, refine);
+    EXPECT_NEAR(fit.c / kC, 1.0, 1e-9) << "refine = " << refine;
+    EXPECT_NEAR(fit.k / kK, 1.0, 1e-9) << "refine = " << refine;
+    EXPECT_LT(fit.rmsRelativeResidual, 1e-9);
+    EXPECT_EQ(fit.points, d0.size());
+  }
+  // Two points: the line passes through both, C and k are exact, and the residual is 0.
+  const std::vector<double> pair = {0.02, 0.05};
+  const BeverlooFit two = fitBeverloo(pair, beverlooData(pair), kRhoBulk, kG, kParticle);
+  EXPECT_NEAR(two.c / kC, 1.0, 1e-9);
+  EXPECT_NEAR(two.k / kK, 1.0, 1e-9);
+  EXPECT_LT(two.rmsRelativeResidual, 1e-12);
+}
+
+TEST(Beverloo, NoisyRatesGiveTheNoiseLevelAndRefiningLowersTheSum) {
+  // Rates 1 % above and below the law alternately: were the fit the law, every relative
+  // residual would be ∓1 % exactly; the least squares fit moves off the law only by the noise's
+  // small trend-like part, so the RMS stays within 15 % of 0.01 and C, k near their values (a
+  // 1 % change in W shifts C by 1 %; the lines through ±1 % alternating points tilt k by a few %).
+  const std::vector<double> d0 = orificeSizes();
+  const std::vector<double> w = alternately(beverlooData(d0), 0.01);
+  const BeverlooFit linear = fitBeverloo(d0, w, kRhoBulk, kG, kParticle, false);
+  const BeverlooFit refined = fitBeverloo(d0, w, kRhoBulk, kG, kParticle, true);
+  for (const BeverlooFit& fit : {linear, refined}) {
+    EXPECT_NEAR(fit.rmsRelativeResidual, 0.01, 0.0015);
+    EXPECT_NEAR(fit.c / kC, 1.0, 0.05);
+    EXPECT_NEAR(fit.k / kK, 1.0, 0.1);
+  }
+  // Gauss–Newton minimises Σ ((W_fit − W)/W)², which the line on W^(2/5) does not: it lowers
+  // that sum, and so the RMS.
+  EXPECT_EQ(linear.refinementSteps, 0);
+  EXPECT_GT(refined.refinementSteps, 0);
+  EXPECT_LT(beverlooSumOfSquares(d0, w, refined), beverlooSumOfSquares(d0, w, linear));
+  EXPECT_LT(refined.rmsRelativeResidual, linear.rmsRelativeResidual);
+  // And it is a minimum: a 10⁻⁴ relative nudge of C or k either way raises it.
+  const double best = beverlooSumOfSquares(d0, w, refined);
+  for (double f : {1 + 1e-4, 1 - 1e-4}) {
+    BeverlooFit nudged = refined;
+    nudged.c *= f;
+    EXPECT_LT(best, beverlooSumOfSquares(d0, w, nudged));
+    nudged = refined;
+    nudged.k *= f;
+    EXPECT_LT(best, beverlooSumOfSquares(d0, w, nudged));
+  }
+}
+
+TEST(Beverloo, FitRefusesBadInput) {
+  const std::vector<double> d0 = {0.02, 0.03, 0.04};
+  const std::vector<double> w = beverlooData(d0);
+  expectRefused([&] { fitBeverloo({0.02}, {0.1}, kRhoBulk, kG, kParticle); }, "1 points");
+  expectRefused([&] { fitBeverloo(d0, {0.1, 0.2}, kRhoBulk, kG, kParticle); }, "3 against 2");
+  expectRefused(
+      [&] {
+        fitBeverloo(d0, {w[0], 0.0, w[2]}, kRhoBulk, kG, kParticle);
+      },
+      "rate[1] must be > 0 (got 0)");
+  expectRefused([&] { fitBeverloo(d0, {w[0], -w[1], w[2]}, kRhoBulk, kG, kParticle); }, "rate[1]");
+  expectRefused(
+      [&] {
+        fitBeverloo({0.02, -0.03, 0.04}, w, kRhoBulk, kG, kParticle);
+      },
+      "orifice[1]");
+  expectRefused(
+      [&] {
+        fitBeverloo({0.03, 0.03, 0.03}, w, kRhoBulk, kG, kParticle);
+      },
+      "two different");
+  expectRefused(
+      [&] {
+        fitBeverloo(d0, {w[2], w[1], w[0]}, kRhoBulk, kG, kParticle);
+      },
+      "do not grow");
+  expectRefused([&] { fitBeverloo(d0, w, kRhoBulk, kG, 0.0); }, "particle diameter");
+}
+
+// ---- Steady discharge rate ----------------------------------------------------------------------
+
+TEST(DischargeRate, LinearDataGiveTheirSlopeExactly) {
+  // m = 2.5 t at t = 0.3 k (k = 0..40). With a total of 31 kg the window [0.2, 0.8] is
+  // [6.2, 24.8] kg, i.e. 2.48 s <= t <= 9.92 s: the samples k = 9..33, t = 2.7 .. 9.9 s.
+  std::vector<double> t, m;
+  for (int k = 0; k <= 40; ++k) {
+    t.push_back(0.3 * k);
+    m.push_back(2.5 * t.back());
+  }
+  const SteadyRate rate = steadyDischargeRate(t, m, 0.2, 0.8, 31.0);
+  EXPECT_NEAR(rate.rate, 2.5, 1e-12);
+  EXPECT_NEAR(rate.standardError, 0.0, 1e-12);
+  EXPECT_NEAR(rate.intercept, 0.0, 1e-12);
+  EXPECT_EQ(rate.samples, 25u);
+  EXPECT_NEAR(rate.t0, 2.7, 1e-12);
+  EXPECT_NEAR(rate.t1, 9.9, 1e-12);
+  // The same by time window.
+  const SteadyRate window = steadyDischargeRateInWindow(t, m, 2.5, 9.95);
+  EXPECT_EQ(window.samples, 25u);
+  EXPECT_NEAR(window.rate, 2.5, 1e-12);
+}
+
+TEST(DischargeRate, StartUpTransientIsLeftOut) {
+  // The flow accelerates at a = 4 kg/s² for T = 1 s, then runs steadily at W = a T = 4 kg/s:
+  // m = a t²/2 up to T (m(T) = 2 kg), then 2 + 4 (t − T). At t = 10 s m = 38 kg, so the default
+  // window starts at 0.2 · 38 = 7.6 kg > 2 kg: only the steady part is in it, and its slope is W
+  // to rounding (the issue asks 1 %).
+  std::vector<double> t, m;
+  for (int k = 0; k <= 200; ++k) {
+    const double time = 0.05 * k;
+    t.push_back(time);
+    m.push_back(time < 1.0 ? 2.0 * time * time : 2.0 + 4.0 * (time - 1.0));
+  }
+  const SteadyRate rate = steadyDischargeRate(t, m);
+  EXPECT_NEAR(rate.rate, 4.0, 4.0 * 1e-9);
+  EXPECT_GT(rate.t0, 1.0);
+  // The whole series, start-up included, is not a line: its slope misses W by more than 1 %.
+  EXPECT_GT(std::abs(steadyDischargeRate(t, m, 0.0, 1.0).rate - 4.0), 0.04);
+}
+
+TEST(DischargeRate, StandardErrorIsTheRegressions) {
+  // t = 0, 1, 2, 3 and m = t + (e, −e, e, −e). By hand: t̄ = 1.5, Σ (t − t̄)² = 5, and the noise's
+  // Σ (t − t̄) n = −2e, so the slope is 1 − 0.4 e. The residuals are (0.4, −1.2, 1.2, −0.4) e:
+  // SSE = 3.2 e², and the slope's standard error is sqrt(3.2 e² / 2 / 5) = sqrt(0.32) e.
+  const double e = 0.1;
+  const SteadyRate rate =
+      steadyDischargeRateInWindow({0, 1, 2, 3}, {e, 1 - e, 2 + e, 3 - e}, 0.0, 3.0);
+  EXPECT_NEAR(rate.rate, 1 - 0.4 * e, 1e-14);
+  EXPECT_NEAR(rate.standardError, std::sqrt(0.32) * e, 1e-14);
+  EXPECT_EQ(rate.samples, 4u);
+}
+
+TEST(DischargeRate, RefusesBadInput) {
+  const std::vector<double> t = {0, 1, 2, 3, 4}, m = {0, 1, 2, 3, 4};
+  expectRefused([&] { steadyDischargeRate(t, m, 0.45, 0.55); }, "1 points, at least 3");
+  expectRefused([&] { steadyDischargeRate(t, {0, 1, 2}); }, "5 against 3");
+  expectRefused([&] { steadyDischargeRate({0, 1, 1, 3, 4}, m); }, "time[2] = 1 s");
+  expectRefused([&] { steadyDischargeRate(t, m, 0.8, 0.2); }, "fromFraction < toFraction");
+  expectRefused([&] { steadyDischargeRate(t, m, 0.2, 1.5); }, "toFraction <= 1");
+  expectRefused([&] { steadyDischargeRate(t, m, 0.2, 0.8, -1.0); }, "total mass must be > 0");
+  expectRefused([&] { steadyDischargeRateInWindow(t, m, 3.0, 1.0); }, "t0 < t1");
 }
