@@ -1,6 +1,7 @@
-/// The silo analyses against closed forms: Janssen's curve, its limits and its fits; Beverloo's
-/// law and its fit; the steady rate of a discharge. Every expected value is derived by hand in
-/// the test's comment.
+/// The silo analyses (silo_analysis.hpp) against closed forms: Janssen's curve, its limits and its
+/// fits; Beverloo's law and its fit; the steady rate of a discharge; wall stresses in bands and
+/// the areas of cylinders and cones; σ_v over slices of a stack of spheres; the lateral pressure
+/// ratio. Every expected value is derived by hand in the test's comment.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,9 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "granular/beverloo.hpp"
-#include "granular/discharge_rate.hpp"
-#include "granular/janssen.hpp"
+#include "granular/silo_analysis.hpp"
 
 using namespace granular;
 
@@ -389,4 +388,213 @@ TEST(DischargeRate, RefusesBadInput) {
   expectRefused([&] { steadyDischargeRate(t, m, 0.2, 1.5); }, "toFraction <= 1");
   expectRefused([&] { steadyDischargeRate(t, m, 0.2, 0.8, -1.0); }, "total mass must be > 0");
   expectRefused([&] { steadyDischargeRateInWindow(t, m, 3.0, 1.0); }, "t0 < t1");
+}
+
+// ---- Wall stresses in bands ---------------------------------------------------------------------
+
+TEST(WallBands, UniformPressureGivesForceOverAreaInEveryBand) {
+  // Four bands of 0.125 m (binary-exact edges: equal areas 2π · 0.1 · 0.125 m²), four contacts in
+  // each pushing 2 N and rubbing 0.5 N: p = 8 N / A and τ = 2 N / A everywhere, the same three
+  // times, so the scatter is exactly 0 and the mobilised friction 0.5/2.
+  const std::vector<double> edges = {0.0, 0.125, 0.25, 0.375, 0.5};
+  WallBandAverage bands(edges, cylinderBandAreas(0.1, edges));
+  std::vector<WallContact> contacts;
+  for (int band = 0; band < 4; ++band) {
+    for (int j = 0; j < 4; ++j) contacts.push_back({0.125 * band + 0.03 * (j + 1), 2.0, 0.5, -0.5});
+  }
+  const double area = 2 * kPi * 0.1 * 0.125;
+  for (int s = 0; s < 3; ++s) {
+    const WallBandSample sample = bands.addSample(contacts);
+    for (double p : sample.pressure) EXPECT_DOUBLE_EQ(p, 8.0 / area);
+  }
+  EXPECT_EQ(bands.samples(), 3u);
+  for (const WallBandStats& b : bands.bands()) {
+    EXPECT_DOUBLE_EQ(b.area, area);
+    EXPECT_DOUBLE_EQ(b.meanPressure, 8.0 / area);
+    EXPECT_DOUBLE_EQ(b.meanShear, 2.0 / area);
+    EXPECT_DOUBLE_EQ(b.meanVerticalShear, -2.0 / area);
+    EXPECT_EQ(b.pressureStd, 0.0);
+    EXPECT_EQ(b.shearStd, 0.0);
+    EXPECT_DOUBLE_EQ(b.mobilisedFriction, 0.25);
+  }
+}
+
+TEST(WallBands, AlternatingSamplesGiveTheHandMeanAndScatter) {
+  // One band of 0.5 m². Sample A: 2 N normal, 1 N shear (p = 4, τ = 2 Pa); sample B: 4 N and
+  // 3 N (p = 8, τ = 6 Pa). After A, B: mean p = 6, sample std sqrt((2² + 2²)/1) = 2√2 Pa.
+  // After A, B, A, B: mean 6, std sqrt(4 · 2² / 3) = 4/√3 Pa. The mobilised friction is the
+  // ratio of the means, 4/6, not the mean of the ratios (0.5 + 0.75)/2.
+  WallBandAverage bands({1.0, 2.0}, {0.5});
+  const std::vector<WallContact> a = {{1.5, 2.0, 1.0, -1.0}};
+  const std::vector<WallContact> b = {{1.5, 4.0, 3.0, -3.0}};
+  bands.addSample(a);
+  bands.addSample(b);
+  WallBandStats s = bands.bands()[0];
+  EXPECT_DOUBLE_EQ(s.meanPressure, 6.0);
+  EXPECT_DOUBLE_EQ(s.pressureStd, 2.0 * std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(s.meanShear, 4.0);
+  EXPECT_DOUBLE_EQ(s.shearStd, 2.0 * std::sqrt(2.0));
+  EXPECT_DOUBLE_EQ(s.meanVerticalShear, -4.0);
+  EXPECT_DOUBLE_EQ(s.mobilisedFriction, 4.0 / 6.0);
+  bands.addSample(a);
+  bands.addSample(b);
+  s = bands.bands()[0];
+  EXPECT_DOUBLE_EQ(s.meanPressure, 6.0);
+  EXPECT_DOUBLE_EQ(s.pressureStd, 4.0 / std::sqrt(3.0));
+  // One sample has no scatter to speak of.
+  WallBandAverage single({1.0, 2.0}, {0.5});
+  single.addSample(b);
+  EXPECT_EQ(single.bands()[0].pressureStd, 0.0);
+  EXPECT_TRUE(std::isnan(WallBandAverage({1.0, 2.0}, {0.5}).bands()[0].mobilisedFriction));
+}
+
+TEST(WallBands, ContactsOutsideTheEdgesAreCountedAndIgnored) {
+  // Bands [0, 1) and [1, 2], 1 m² each. The contacts at −0.1 and 2.0001 m fall outside; 0 m is
+  // the bottom band's, 1 m the top band's (its lower edge) and 2 m the top band's (its top edge).
+  WallBandAverage bands({0.0, 1.0, 2.0}, {1.0, 1.0});
+  const std::vector<WallContact> contacts = {{-0.1, 100.0, 0, 0},
+                                             {0.0, 1.0, 0, 0},
+                                             {1.0, 2.0, 0, 0},
+                                             {2.0, 4.0, 0, 0},
+                                             {2.0001, 100.0, 0, 0}};
+  const WallBandSample sample = bands.addSample(contacts);
+  EXPECT_EQ(sample.contactsOutside, 2u);
+  EXPECT_EQ(sample.pressure[0], 1.0);
+  EXPECT_EQ(sample.pressure[1], 6.0);
+  bands.addSample(contacts);
+  EXPECT_EQ(bands.contactsOutside(), 4u);
+}
+
+TEST(WallBands, AreasOfCylindersAndCones) {
+  // A cylinder: the bands add up to 2π R H.
+  const std::vector<double> edges = {0.0, 0.1, 0.25, 0.3, 0.6};
+  double sum = 0;
+  for (double a : cylinderBandAreas(0.2, edges)) sum += a;
+  EXPECT_NEAR(sum, 2 * kPi * 0.2 * 0.6, 1e-14);
+  // A frustum of constant radius is that cylinder.
+  const std::vector<double> cylinder = cylinderBandAreas(0.2, edges);
+  const std::vector<double> straight = frustumBandAreas(0.0, 0.2, 1.0, 0.2, edges);
+  for (std::size_t k = 0; k < cylinder.size(); ++k) EXPECT_NEAR(straight[k], cylinder[k], 1e-15);
+  // A cone from its apex (r = 0 at z = 0) to r = 0.3 at z = 0.6: lateral area π R √(R² + H²),
+  // and the band below z = 0.1 (r = 0.05) is the small cone π 0.05 √(0.05² + 0.1²).
+  const std::vector<double> cone = frustumBandAreas(0.0, 0.0, 0.6, 0.3, edges);
+  sum = 0;
+  for (double a : cone) sum += a;
+  EXPECT_NEAR(sum, kPi * 0.3 * std::sqrt(0.3 * 0.3 + 0.6 * 0.6), 1e-14);
+  EXPECT_NEAR(cone[0], kPi * 0.05 * std::sqrt(0.05 * 0.05 + 0.1 * 0.1), 1e-15);
+  // A hopper narrowing downward given from its top: the same cone.
+  const std::vector<double> flipped = frustumBandAreas(0.6, 0.3, 0.3, 0.15, edges);
+  for (std::size_t k = 0; k < cone.size(); ++k) EXPECT_NEAR(flipped[k], cone[k], 1e-14);
+  expectRefused([&] { frustumBandAreas(0.1, 0.0, 0.6, 0.3, edges); }, "radius at edge[0]");
+  expectRefused([&] { cylinderBandAreas(0.2, {0.0, 0.3, 0.2}); }, "strictly ascending");
+}
+
+TEST(WallBands, RefusesBadInput) {
+  expectRefused([] { WallBandAverage({0.0, 1.0, 2.0}, {1.0}); }, "3 edges make 2 bands but 1");
+  expectRefused([] { WallBandAverage({0.0, 1.0}, {0.0}); }, "area[0] must be > 0");
+  expectRefused([] { WallBandAverage({1.0}, {}); }, "at least 2 needed");
+  WallBandAverage bands({0.0, 1.0}, {1.0});
+  expectRefused(
+      [&] {
+        bands.addSample({{0.5, 1.0, 0, 0}, {0.5, -1.0, 0, 0}});
+      },
+      "contact[1] normal force must be >= 0");
+  EXPECT_EQ(bands.samples(), 0u);  // the refused sample added nothing
+}
+
+// ---- σ_v over slices ----------------------------------------------------------------------------
+
+namespace {
+
+/// A vertical stack of N equal spheres (radius r, mass m) at rest on a floor at z = 0, in a tube
+/// of radius R: sphere i (from 0 at the bottom) has its centre at z_i = r + 2 r i. It carries
+/// the weight of itself and the N − 1 − i above, so the contact below it pushes up with
+/// (N − i) m g at l_z = −r, and the one above pushes down with (N − 1 − i) m g at l_z = +r.
+std::vector<SliceContact> stackContacts(int n, double r, double weight) {
+  std::vector<SliceContact> records;
+  for (int i = 0; i < n; ++i) {
+    const double z = r + 2 * r * i;
+    records.push_back({z, (n - i) * weight, -r});
+    if (i < n - 1) records.push_back({z, -(n - 1 - i) * weight, r});
+  }
+  return records;
+}
+
+}  // namespace
+
+TEST(SliceStress, StackOfSpheresCarriesTheWeightAboveEachSlice) {
+  // Sphere i's contacts give Σ F_z l_z = −r m g [(N − i) + (N − 1 − i)] = −r m g (2N − 2i − 1).
+  // Over its slice [2 r i, 2 r (i + 1)), of volume A · 2r with A = π R²:
+  //   σ_zz = −(m g / A)(N − i − 1/2),
+  // the weight of the half sphere and the N − 1 − i spheres above the slice's mid-plane over the
+  // section. That is the hydrostatic line γ h of a bulk of weight density m g / (2 r A) at the
+  // mid-plane's depth h = 2 r (N − i − 1/2) below the stack's top: Janssen's curve at λ = 0.
+  const int n = 6;
+  const double r = 0.01, radius = 0.01, weight = 0.002 * 9.81;
+  const double section = kPi * radius * radius;
+  std::vector<double> edges;
+  for (int i = 0; i <= n; ++i) edges.push_back(2 * r * i);
+  const SliceStressProfile profile =
+      cylinderSliceStress(stackContacts(n, r, weight), radius, edges);
+  ASSERT_EQ(profile.slices.size(), static_cast<std::size_t>(n));
+  EXPECT_EQ(profile.contactsOutside, 0u);
+  const double gamma = weight / (2 * r * section);
+  for (int i = 0; i < n; ++i) {
+    const SliceStress& s = profile.slices[i];
+    const double expected = (n - i - 0.5) * weight / section;
+    EXPECT_NEAR(s.sigmaV / expected, 1.0, 1e-12) << "slice " << i;
+    EXPECT_EQ(s.sigmaZZ, -s.sigmaV);
+    EXPECT_NEAR(s.volume, section * 2 * r, 1e-18);
+    EXPECT_EQ(s.contacts, i < n - 1 ? 2u : 1u);
+    const double depth = 2 * r * n - (s.zLow + s.zHigh) / 2;
+    EXPECT_NEAR(s.sigmaV / janssenVerticalStress(depth, gamma, radius / 2, 0.0), 1.0, 1e-12);
+  }
+  // Slices of two spheres: the mean of (N − i − 1/2) and (N − i − 3/2) for i = 2j, i.e. the
+  // weight above the contact between the pair, (N − 2j − 1) m g / A.
+  const SliceStressProfile pairs =
+      cylinderSliceStress(stackContacts(n, r, weight), radius, {0.0, 4 * r, 8 * r, 12 * r});
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_NEAR(pairs.slices[j].sigmaV / ((n - 2 * j - 1) * weight / section), 1.0, 1e-12);
+  }
+  // Records whose particle lies above the top edge are counted, not summed: with slices up to
+  // 4r, spheres 2 to 5 lie above, with 2 + 2 + 2 + 1 records.
+  const SliceStressProfile lower =
+      cylinderSliceStress(stackContacts(n, r, weight), radius, {0.0, 2 * r, 4 * r});
+  EXPECT_EQ(lower.contactsOutside, 7u);
+  expectRefused([&] { cylinderSliceStress({}, 0.0, edges); }, "radius must be > 0");
+}
+
+// ---- Lateral pressure ratio ---------------------------------------------------------------------
+
+TEST(LateralRatio, En1991AndMohrCoulombHandValues) {
+  // σ1 = 3, σ3 = 1: sin φ = 2/4, φ = 30°; EN 1991-4's K = 1.1 (1 − 1/2) = 0.55.
+  EXPECT_NEAR(internalFrictionAngleFromStresses(3.0, 1.0), kPi / 6, 1e-15);
+  EXPECT_NEAR(en1991LateralRatio(kPi / 6), 0.55, 1e-15);
+  // No deviator, no friction: K = 1.1; φ = 90°: K = 0.
+  EXPECT_EQ(internalFrictionAngleFromStresses(2.0, 2.0), 0.0);
+  EXPECT_EQ(en1991LateralRatio(0.0), 1.1);
+  EXPECT_NEAR(en1991LateralRatio(kPi / 2), 0.0, 1e-15);
+  // σ3 = 0: the circle through the origin, φ = 90°.
+  EXPECT_NEAR(internalFrictionAngleFromStresses(5.0, 0.0), kPi / 2, 1e-15);
+  expectRefused([] { internalFrictionAngleFromStresses(1.0, 3.0); }, "sigma1 >= sigma3");
+  expectRefused([] { internalFrictionAngleFromStresses(-3.0, -1.0); }, "sigma1 must be > 0");
+  expectRefused([] { en1991LateralRatio(2.0); }, "<= pi/2");
+}
+
+TEST(LateralRatio, BandPressureOverSliceStress) {
+  // Two bands over two slices of the same heights. Slice stresses from one record each:
+  // F_z l_z = −1 N · 0.5 m over V = π · 1² · 1 m³ gives σ_v = 0.5/π Pa; the second slice has none.
+  // Wall pressures: 0.3/π and 0.2 Pa; so K = 0.6 in the first band, NaN in the second.
+  const std::vector<double> edges = {0.0, 1.0, 2.0};
+  WallBandAverage bands(edges, {1.0, 1.0});
+  bands.addSample({{0.5, 0.3 / kPi, 0, 0}, {1.5, 0.2, 0, 0}});
+  const SliceStressProfile slices = cylinderSliceStress({{0.5, 1.0, -0.5}}, 1.0, edges);
+  const std::vector<double> k = lateralToVertical(bands.bands(), slices);
+  ASSERT_EQ(k.size(), 2u);
+  EXPECT_NEAR(k[0], 0.6, 1e-15);
+  EXPECT_TRUE(std::isnan(k[1]));
+  const SliceStressProfile other = cylinderSliceStress({}, 1.0, {0.0, 1.0, 2.5});
+  expectRefused([&] { lateralToVertical(bands.bands(), other); }, "band 1 spans [1, 2] m");
+  const SliceStressProfile fewer = cylinderSliceStress({}, 1.0, {0.0, 1.0});
+  expectRefused([&] { lateralToVertical(bands.bands(), fewer); }, "2 bands but 1 slices");
 }
