@@ -43,9 +43,9 @@ int runSilo(const SiloOptions& options) {
     }
     reporter.update(sim, shown);
   };
-  std::cout << "silo study: " << options.scene.string() << ", "
-            << scene.stages[0].inserts[0].count << " particles poured in, then "
-            << options.dischargeTime << " s through each orifice\n";
+  std::cout << "silo study: " << options.scene.string() << ", " << scene.stages[0].inserts[0].count
+            << " particles poured in, then " << options.dischargeTime
+            << " s through each orifice\n";
   const SiloStudyResult result = runSiloStudy(scene, study);
   reporter.finish();
   const double seconds =

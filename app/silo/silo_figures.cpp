@@ -1,6 +1,7 @@
 /// drawSiloFigures (silo_figures.hpp).
 #include "silo_figures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -102,7 +103,7 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
     const double bottom = r.levels.empty() ? 0.0 : r.levels.front().zLow;
     for (int k = 0; k <= 100; ++k) {
       const double height = bottom + (r.surface - bottom) * k / 100.0;
-      const double depth = r.surface - height;
+      const double depth = std::max(0.0, r.surface - height);  // the top point rounds below 0
       if (r.janssen.lambda > 0) {
         janssen.x.push_back(janssenVerticalStress(depth, gamma, rh, r.janssen.lambda));
         janssen.y.push_back(height);
@@ -127,8 +128,8 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
 
   // Discharged mass against time, with each orifice's Beverloo line through its steady window.
   {
-    render::PlotSpec p = basePlot("Discharge", "time since the orifice opened [s]",
-                                  "discharged mass [kg]");
+    render::PlotSpec p =
+        basePlot("Discharge", "time since the orifice opened [s]", "discharged mass [kg]");
     p.height = 750;
     int index = 0;
     for (const SiloDischarge& d : r.discharges) {
@@ -140,8 +141,8 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
       s.label = orificeLabel(d, r.particleDiameter);
       p.series.push_back(s);
       if (d.flowed && r.beverlooFitted) {
-        const double w = beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, gravity,
-                                      d.orifice, r.particleDiameter);
+        const double w = beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, gravity, d.orifice,
+                                      r.particleDiameter);
         // Through the middle of the steady window at Beverloo's slope.
         const double tm = 0.5 * (d.steady.t0 + d.steady.t1);
         const double mm = d.steady.intercept + d.steady.rate * tm;

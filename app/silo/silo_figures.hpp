@@ -10,8 +10,7 @@
 namespace granular::app {
 
 /// Writes wall_pressure.png, vertical_stress.png and discharge.png into `dir`; the files.
-std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& result,
-                                                   double gravity,
+std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& result, double gravity,
                                                    const std::filesystem::path& dir);
 
 }  // namespace granular::app

@@ -19,7 +19,9 @@ std::string fmt(const char* format, double x) {
   return buffer;
 }
 
-const char* met(bool ok) { return ok ? "**met**" : "**not met**"; }
+const char* met(bool ok) {
+  return ok ? "**met**" : "**not met**";
+}
 
 /// The largest ratio of a discharge's wall pressure to the pressure at rest over the levels in
 /// the bed, and its level's index; the switch peak where it stands out of the rest's scatter.
@@ -116,7 +118,8 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
     out << fmt("%.4f", dis.steady.rate) << " | " << fmt("%.4f", dis.steady.standardError) << " | "
         << fmt("%.2f", dis.steady.t0) << "–" << fmt("%.2f", dis.steady.t1) << " | ";
     if (r.beverlooFitted) {
-      out << fmt("%.4f", beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, g, dis.orifice, d));
+      out << fmt("%.4f",
+                 beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, g, dis.orifice, d));
     }
     out << " |\n";
   }

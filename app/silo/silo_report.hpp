@@ -10,8 +10,8 @@ namespace granular::app {
 
 /// The targets the report checks.
 struct SiloTargets {
-  double janssenRms = 0.05;       ///< σ_v about the fitted Janssen curve, relative RMS [-]
-  double lambdaAgreement = 0.15;  ///< fitted μ_w K against the measured one, relative [-]
+  double janssenRms = 0.05;         ///< σ_v about the fitted Janssen curve, relative RMS [-]
+  double lambdaAgreement = 0.15;    ///< fitted μ_w K against the measured one, relative [-]
   double cMin = 0.55, cMax = 0.65;  ///< Beverloo's C, the literature's range [-]
 };
 

@@ -234,8 +234,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     discharge.orifice = walls.orifices[k];
     StageSpec stage;
     stage.name = "orifice " + std::to_string(k + 1);
-    stage.removeWalls.assign(walls.opening.begin(),
-                             walls.opening.begin() + std::ptrdiff_t(k + 1));
+    stage.removeWalls.assign(walls.opening.begin(), walls.opening.begin() + std::ptrdiff_t(k + 1));
     OutletSpec outlet;
     outlet.name = "below";
     outlet.region.min = Vec3(scene.box.min.x(), scene.box.min.y(), scene.box.min.z());
@@ -254,14 +253,15 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
         [&](const Simulation& s) {
           discharge.time.push_back(s.time() - start);
           discharge.discharged.push_back(s.particleTally().removedMass);
-          pressures.push_back(perSample.addSample(sampleBed(s, walls.cylinder, edges).wall).pressure);
+          pressures.push_back(
+              perSample.addSample(sampleBed(s, walls.cylinder, edges).wall).pressure);
         },
         progress("orifice " + std::to_string(k + 1) + " of " +
                  std::to_string(walls.orifices.size())));
     try {
       discharge.steady = steadyDischargeRate(discharge.time, discharge.discharged, 0.2, 0.8);
-      discharge.flowed = discharge.discharged.back() > 0.05 * result.bedMass &&
-                         discharge.steady.samples >= 10;
+      discharge.flowed =
+          discharge.discharged.back() > 0.05 * result.bedMass && discharge.steady.samples >= 10;
     } catch (const std::invalid_argument&) {
       discharge.flowed = false;
     }

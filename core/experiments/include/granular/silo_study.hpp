@@ -34,16 +34,16 @@ struct SiloStudyOptions {
 
 /// One height of the bed at rest: the wall's band and the section's slice at the same heights.
 struct SiloLevel {
-  double zLow = 0, zHigh = 0;  ///< [m]
-  double depth = 0;            ///< of the level's middle below the bed's surface [m]
-  double wallPressure = 0;     ///< p_h, the mean over the samples [Pa]
-  double wallPressureStd = 0;  ///< its scatter over the samples [Pa]
-  double wallShear = 0;        ///< upward shear of the wall on the bed, τ_w [Pa]
-  double verticalStress = 0;   ///< σ_v of Eq. (1) over the slice, the mean [Pa]
-  double bulkDensity = 0;      ///< the slice's mass over its volume, the mean [kg/m³]
-  double lateralRatio = 0;     ///< K = p_h / σ_v [-]
+  double zLow = 0, zHigh = 0;    ///< [m]
+  double depth = 0;              ///< of the level's middle below the bed's surface [m]
+  double wallPressure = 0;       ///< p_h, the mean over the samples [Pa]
+  double wallPressureStd = 0;    ///< its scatter over the samples [Pa]
+  double wallShear = 0;          ///< upward shear of the wall on the bed, τ_w [Pa]
+  double verticalStress = 0;     ///< σ_v of Eq. (1) over the slice, the mean [Pa]
+  double bulkDensity = 0;        ///< the slice's mass over its volume, the mean [kg/m³]
+  double lateralRatio = 0;       ///< K = p_h / σ_v [-]
   double mobilisedFriction = 0;  ///< τ_w / p_h [-]
-  bool inBed = false;  ///< wholly below the surface and above the floor's first diameter
+  bool inBed = false;            ///< wholly below the surface and above the floor's first diameter
 };
 
 /// One orifice's discharge.
