@@ -85,13 +85,16 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
       << "| σ_v about the fitted curve, RMS [-] | " << fmt("%.2f %%", 100 * j.rmsRelativeResidual)
       << " | ≤ " << fmt("%.0f %%", 100 * t.janssenRms) << " | "
       << met(j.rmsRelativeResidual <= t.janssenRms) << " |\n"
-      << "| λ measured, mean τ_w/σ_v [-] | " << fmt("%.4f", r.lambdaMeasured) << " | | |\n"
+      << "| λ measured, Σ τ_w / Σ σ_v [-] | " << fmt("%.4f", r.lambdaMeasured) << " | | |\n"
       << "| fitted against measured λ | " << fmt("%.1f %%", 100 * agreement) << " | ≤ "
       << fmt("%.0f %%", 100 * t.lambdaAgreement) << " | " << met(agreement <= t.lambdaAgreement)
       << " |\n"
       << "| K, mean over the bed [-] | " << fmt("%.3f", r.lateralRatio) << " | | |\n"
       << "| μ_mob, mean over the bed [-] | " << fmt("%.3f", r.mobilisedFriction) << " | | |\n"
-      << "| asymptotic σ_v, γ R_h/λ [Pa] | " << fmt("%.1f", j.asymptoticStress) << " | | |\n\n";
+      << "| asymptotic σ_v, γ R_h/λ [Pa] | " << fmt("%.1f", j.asymptoticStress) << " | | |\n"
+      << "| with γ fitted too: λ, ρ_b = γ/g, RMS | " << fmt("%.4f", r.janssenBoth.lambda) << ", "
+      << fmt("%.1f kg/m³", r.janssenBoth.gamma / r.gravity) << ", "
+      << fmt("%.2f %%", 100 * r.janssenBoth.rmsRelativeResidual) << " | | |\n\n";
   if (j.lambdaAtBound) {
     out << "λ lies at the end of the range the fit searches: the profile is hydrostatic or "
            "steeper, and the wall carries no weight to speak of.\n\n";

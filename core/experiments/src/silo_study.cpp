@@ -199,7 +199,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   result.bulkDensity = middleMass / middleVolume;
   result.surface = walls.floorZ + result.bedMass / (result.bulkDensity * section);
   std::vector<double> depths, stresses;
-  double lambdaSum = 0.0, kSum = 0.0, muSum = 0.0;
+  double shearSum = 0.0, stressSum = 0.0, kSum = 0.0, muSum = 0.0;
   std::size_t inBed = 0;
   for (SiloLevel& level : result.levels) {
     level.depth = result.surface - 0.5 * (level.zLow + level.zHigh);
@@ -211,7 +211,8 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     if (!level.inBed) continue;
     depths.push_back(level.depth);
     stresses.push_back(level.verticalStress);
-    lambdaSum += level.wallShear / level.verticalStress;
+    shearSum += level.wallShear;
+    stressSum += level.verticalStress;
     kSum += level.lateralRatio;
     muSum += level.mobilisedFriction;
     ++inBed;
@@ -219,9 +220,12 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   const double g = scene.simulation.gravity.norm();
   result.gravity = g;
   if (inBed >= 3) {
-    result.janssen = fitJanssen(depths, stresses, circleHydraulicRadius(2.0 * walls.radius),
-                                result.bulkDensity * g);
-    result.lambdaMeasured = lambdaSum / double(inBed);
+    const double rh = circleHydraulicRadius(2.0 * walls.radius);
+    result.janssen = fitJanssen(depths, stresses, rh, result.bulkDensity * g);
+    result.janssenBoth = fitJanssenLambdaAndGamma(depths, stresses, rh);
+    // Janssen's slice balance summed over the bed's levels (of equal height): the wall's
+    // shear carries λ times the vertical stress, Σ τ_w = λ Σ σ_v.
+    result.lambdaMeasured = shearSum / stressSum;
     result.lateralRatio = kSum / double(inBed);
     result.mobilisedFriction = muSum / double(inBed);
   }

@@ -67,8 +67,11 @@ struct SiloStudyResult {
   double fillSeconds = 0;       ///< wall-clock time of the fill [s]
   std::vector<SiloLevel> levels;
   std::size_t restSamples = 0;
-  JanssenFit janssen;  ///< λ fitted to σ_v over the levels in the bed, γ = ρ_b g
-  /// λ measured: the mean over the levels in the bed of τ_w / σ_v = μ_mob K [-].
+  JanssenFit janssen;      ///< λ fitted to σ_v over the levels in the bed, γ = ρ_b g
+  JanssenFit janssenBoth;  ///< λ and γ both fitted
+  /// λ measured from the wall's forces: Σ τ_w / Σ σ_v over the levels in the bed, Janssen's
+  /// balance τ_w = μ_mob K σ_v summed over the depth (a mean of the levels' ratios would weigh
+  /// the unloaded top as much as the deep bed) [-].
   double lambdaMeasured = 0;
   double lateralRatio = 0;       ///< K, the mean over the levels in the bed [-]
   double mobilisedFriction = 0;  ///< μ_mob, the mean over the levels in the bed [-]
