@@ -52,8 +52,7 @@ int runSilo(const SiloOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   writeSiloTables(result, options.outDir);
-  const std::vector<std::filesystem::path> figures =
-      drawSiloFigures(result, scene.simulation.gravity.norm(), options.outDir);
+  const std::vector<std::filesystem::path> figures = drawSiloFigures(result, options.outDir);
   writeTextFile(options.outDir / "report.md",
                 siloReport(result, options.scene.filename().string(), seconds));
   std::cout << "Janssen: λ = μ_w K = " << result.janssen.lambda << " fitted (RMS "

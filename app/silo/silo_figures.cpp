@@ -42,16 +42,8 @@ std::vector<double> middles(const SiloStudyResult& r) {
 
 }  // namespace
 
-std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, double gravity,
-                                                   const std::filesystem::path& dir) {
-  std::vector<std::filesystem::path> written;
-  auto save = [&](const render::PlotSpec& spec, const std::string& name) {
-    render::writePng(render::drawPlot(spec), dir / name, kDpi);
-    written.push_back(dir / name);
-  };
+render::Image wallPressureFigure(const SiloStudyResult& r) {
   const std::vector<double> z = middles(r);
-
-  // p_h(z): at rest with its scatter, and during each discharge.
   {
     render::PlotSpec p = basePlot("Wall pressure", "p_h [Pa]", "z [m]");
     render::Series rest;
@@ -82,10 +74,12 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
       p.series.push_back(s);
     }
     p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
-    save(p, "wall_pressure.png");
+    return render::drawPlot(p);
   }
+}
 
-  // σ_v(z) with Janssen's curve and the hydrostatic line.
+render::Image verticalStressFigure(const SiloStudyResult& r) {
+  const double gravity = r.gravity;
   {
     render::PlotSpec p = basePlot("Vertical stress at rest", "σ_v [Pa]", "z [m]");
     render::Series measured;
@@ -123,10 +117,12 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
     measured.color = render::categorical(0);
     p.series = {measured, janssen, hydrostatic};
     p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
-    save(p, "vertical_stress.png");
+    return render::drawPlot(p);
   }
+}
 
-  // Discharged mass against time, with each orifice's Beverloo line through its steady window.
+render::Image dischargeFigure(const SiloStudyResult& r) {
+  const double gravity = r.gravity;
   {
     render::PlotSpec p =
         basePlot("Discharge", "time since the orifice opened [s]", "discharged mass [kg]");
@@ -149,7 +145,7 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
         render::Series line;
         line.x = {d.steady.t0, d.steady.t1};
         line.y = {mm + w * (d.steady.t0 - tm), mm + w * (d.steady.t1 - tm)};
-        line.color = render::categorical(index);
+        line.color = render::Rgba{0, 0, 0, 255};  // black over the measured colours
         line.dash = render::Series::Dashed;
         line.width = 1.4;
         if (index == 0) line.label = "Beverloo, fitted C and k";
@@ -157,8 +153,20 @@ std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r, dou
       }
       ++index;
     }
-    save(p, "discharge.png");
+    return render::drawPlot(p);
   }
+}
+
+std::vector<std::filesystem::path> drawSiloFigures(const SiloStudyResult& r,
+                                                   const std::filesystem::path& dir) {
+  std::vector<std::filesystem::path> written;
+  auto save = [&](const render::Image& image, const std::string& name) {
+    render::writePng(image, dir / name, kDpi);
+    written.push_back(dir / name);
+  };
+  save(wallPressureFigure(r), "wall_pressure.png");
+  save(verticalStressFigure(r), "vertical_stress.png");
+  save(dischargeFigure(r), "discharge.png");
   return written;
 }
 
