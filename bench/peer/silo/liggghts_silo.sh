@@ -125,7 +125,7 @@ done
 {
   echo "# LIGGGHTS silo discharge ($(date -u '+%Y-%m-%d %H:%M UTC'))"
   echo
-  echo "cpu: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores; liggghts: $(liggghts -h 2>/dev/null | sed -n 's/^LIGGGHTS (Version \([^,]*\),.*/\1/p' | head -1)"
+  echo "cpu: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc) cores; liggghts: $(cd "$OUT" && liggghts -log none -h 2>/dev/null | sed -n 's/^LIGGGHTS (Version \([^,]*\),.*/\1/p' | head -1)"
   echo "seeds: $SEEDS; ranks: $RANKS; quick: $QUICK; D0/d: $D0S; params: $PARAMS ${SETS[*]:-}"
   for d0 in $D0S; do
     mm="$($PY -c "import sys; sys.path.insert(0, '$HERE'); import silo_params as s; \
