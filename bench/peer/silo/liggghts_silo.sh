@@ -6,7 +6,7 @@
 #
 #   bench/peer/silo/liggghts_silo.sh [--seeds "1 2 3 4"] [--ranks 1|2|"1 2"] [--quick]
 #                                    [--out DIR] [--d0-diameters "6"] [--params FILE]
-#                                    [--set key=value]... [--no-wait] [--max-wait S]
+#                                    [--set key=value]... [--no-wait] [--max-wait S] [--post-only]
 #
 #   --seeds          seeds (integers >= 0; each maps to LIGGGHTS's prime seeds), default "1 2 3 4"
 #   --ranks          MPI ranks, 1, 2 or "1 2" (both, one after the other), default 1
@@ -16,6 +16,7 @@
 #                    report.md (the tables), load.txt (uptime around each run)
 #   --d0-diameters   orifice diameters D0/d (d = 0.017 m), e.g. "5 6 7 8"; default: silo.params
 #   --params         parameter file (default bench/peer/silo/silo.params); --set overrides a line
+#   --post-only      run no LIGGGHTS: post-process the runs already in --out again (same options)
 #   --no-wait        start each run at once instead of waiting (at most --max-wait s, default
 #                    180) for the 1-minute load average to fall under 1.5 (timings on a busy
 #                    machine are not results; load.txt records the load around each run)
@@ -35,6 +36,7 @@ PARAMS="$HERE/silo.params"
 SETS=()
 WAIT=1
 MAX_WAIT=180
+POST_ONLY=0
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --seeds) SEEDS="$2"; shift ;;
@@ -45,6 +47,7 @@ while [[ $# -gt 0 ]]; do
     --params) PARAMS="$(realpath -m "$2")"; shift ;;
     --set) SETS+=(--set "$2"); shift ;;
     --no-wait) WAIT=0 ;;
+    --post-only) POST_ONLY=1 ;;
     --max-wait) MAX_WAIT="$2"; shift ;;
     -h|--help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;;
     *) echo "liggghts_silo.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
@@ -73,9 +76,11 @@ QUICK_ARG=()
 [[ $QUICK == 1 ]] && QUICK_ARG=(--quick)
 
 mkdir -p "$OUT"
-echo "meshes: $OUT/mesh" >&2
-# shellcheck disable=SC2086
-$PY "$HERE/silo_mesh.py" --out "$OUT/mesh" --params "$PARAMS" "${SETS[@]}" --d0 $D0S >&2
+if [[ $POST_ONLY == 0 ]]; then
+  echo "meshes: $OUT/mesh" >&2
+  # shellcheck disable=SC2086
+  $PY "$HERE/silo_mesh.py" --out "$OUT/mesh" --params "$PARAMS" "${SETS[@]}" --d0 $D0S >&2
+fi
 
 wait_quiet() {
   local waited=0
@@ -94,6 +99,18 @@ p = s.read('$PARAMS'); print(s.orifice_mm(s.orifice_diameter(p, $d0)))")"
     dir="$OUT/D0_$mm/r$ranks"
     for seed in $SEEDS; do
       run="$dir/seed$seed"
+      if [[ $POST_ONLY == 1 ]]; then
+        if [[ -f "$run/time.txt" && -f "$run/log.liggghts" ]]; then
+          read -r wall user sys < "$run/time.txt"
+          cpu=$(awk -v a="$user" -v b="$sys" 'BEGIN { printf "%.3f", a + b }')
+          $PY "$HERE/silo_post.py" run "$run" --csv-dir "$dir" --wall-seconds "$wall" \
+            --cpu-seconds "$cpu" >&2 || FAILED=1
+        else
+          echo "liggghts_silo.sh: --post-only: no finished run in $run" >&2
+          FAILED=1
+        fi
+        continue
+      fi
       rm -rf "$run"
       mkdir -p "$run"
       $PY "$HERE/silo_setup.py" --out "$run" --mesh-dir "$OUT/mesh" --seed "$seed" --d0 "$d0" \

@@ -3,6 +3,7 @@
 
     silo_post.py run RUNDIR [--csv-dir DIR] [--wall-seconds S]
     silo_post.py table SUMMARY.json ... [--markdown FILE]
+    silo_post.py profile WALL_PRESSURE.csv ...
 
 `run` reads one run's folder (silo.liggghts's outputs and run.json) and writes, into --csv-dir
 (default RUNDIR):
@@ -11,7 +12,8 @@
                             p_h_std_Pa (their standard deviation), samples
   summary_<seed>.json       the fitted rate W, the checks, the timings, the bed's mean sqrt(h)
 and prints the checks. `table` prints one row per summary and the mean +- standard deviation
-over them (the driver's table).
+over them (the driver's table). `profile` prints the wall-pressure bands' mean +- standard
+deviation over several runs' CSVs (seeds).
 
 Definitions:
   discharged mass(t) = M(open) - sum of the masses whose centre is above z = 0 at t;
@@ -202,7 +204,9 @@ def process_run(rundir, csv_dir, wall_seconds=None, cpu_seconds=None):
     s.update({"weight_N": weight, "support_N": sup_mean, "support_std_N": sup_std,
               "support_stress_N": st_mean, "support_cylinder_N": mesh_means[0],
               "support_floor_N": mesh_means[1], "support_gate_N": mesh_means[2],
-              "rest_samples": len(walls), "bed_top_m": top})
+              "rest_samples": len(walls), "bed_top_m": top,
+              # the height N particles fill at a solid fraction of 0.6 (the table's band picks)
+              "bed_height_nominal_m": r["n_particles"] * m_cont / (rho * 0.6 * math.pi * big_r ** 2)})
     checks.append(("wall reactions carry the weight (2 %)",
                    abs(sup_mean / weight - 1) < 0.02,
                    f"sum of vertical wall forces {sup_mean:.5g} N (contacts), {st_mean:.5g} N "
@@ -323,8 +327,9 @@ def print_run(s, out=sys.stdout):
 
 
 def band_picks(summaries):
-    """Band indices to show: near 10 %, 35 %, 60 % and 85 % of the lowest bed's height."""
-    top = min(s["bed_top_m"] for s in summaries)
+    """Band indices to show: at 10 %, 35 %, 60 % and 85 % of the nominal bed height (N particles
+    at a solid fraction of 0.6), the same for every run of the same N."""
+    top = min(s.get("bed_height_nominal_m", s["bed_top_m"]) for s in summaries)
     band = summaries[0]["p_h_band_m"]
     n = min(len(s["p_h_Pa"]) for s in summaries)
     picks = []
@@ -370,6 +375,21 @@ def table(summaries, out=sys.stdout):
                                else "none"), file=out)
 
 
+def profile(paths, out=sys.stdout):
+    runs = []
+    for path in paths:
+        with open(path, encoding="utf-8") as f:
+            next(f)
+            runs.append([[float(x) for x in line.split(",")] for line in f if line.strip()])
+    n = min(len(r) for r in runs)
+    print("| z_low_m | z_high_m | p_h_Pa mean ± sd over runs | runs |", file=out)
+    print("|---|---|---|---|", file=out)
+    for k in range(n):
+        m, sd = mean_std([r[k][2] for r in runs])
+        print(f"| {runs[0][k][0]:.3f} | {runs[0][k][1]:.3f} | {m:.1f} ± {sd:.1f} | {len(runs)} |",
+              file=out)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -381,7 +401,12 @@ def main():
     b = sub.add_parser("table")
     b.add_argument("summaries", nargs="+")
     b.add_argument("--markdown")
+    c = sub.add_parser("profile")
+    c.add_argument("csvs", nargs="+")
     args = ap.parse_args()
+    if args.cmd == "profile":
+        profile(args.csvs)
+        return
     if args.cmd == "run":
         s = process_run(args.rundir, args.csv_dir or args.rundir, args.wall_seconds,
                         args.cpu_seconds)
