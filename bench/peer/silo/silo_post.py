@@ -270,7 +270,6 @@ def process_run(rundir, csv_dir, wall_seconds=None, cpu_seconds=None):
     dis_s, dis_ps, dis_n = total(["open"])
     all_s, all_ps, all_n = total(["fill", "settled", "rest", "open"])
     # the fixed-count part: the fill phase's chunks after the last insertion, and the rest
-    fixed = [l for l in loops.get("fill", [])] + loops.get("rest", [])
     after = []
     step_at = 0
     for l in loops.get("fill", []):
@@ -280,7 +279,6 @@ def process_run(rundir, csv_dir, wall_seconds=None, cpu_seconds=None):
     after += loops.get("rest", [])
     fixed_s = sum(l[0] for l in after)
     fixed_ps = sum(l[1] * l[2] for l in after)
-    del fixed
     procs = {l[3] for ls in loops.values() for l in ls}
     s["timing"] = {
         "procs": sorted(procs), "fill_settle_loop_s": fill_s, "fill_settle_steps": fill_n,

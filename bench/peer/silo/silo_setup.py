@@ -19,7 +19,8 @@ The law (docs/physics.md §1; bench/peer/README.md for the mapping this follows)
   dashpots gamma_n m_ij dh/dt and gamma_t m_ij v_t (absolute_damping off: LIGGGHTS multiplies
         gamman, gammat by m_eff = m_i m_j/(m_i + m_j), m_i at a wall), friction mu.
 LIGGGHTS seeds must be primes above 10000: seed S maps to the first primes at or above
-100000 + 1000 S (insertion), 200000 + 1000 S (distribution), 300000 + 1000 S (the\ntemplates: the next ones).
+100000 + 1000 S (insertion), 200000 + 1000 S (distribution), 300000 + 1000 S (the
+templates: the next ones).
 """
 import argparse
 import json
