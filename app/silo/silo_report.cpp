@@ -115,7 +115,7 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
   for (const SiloDischarge& dis : r.discharges) {
     out << "| " << fmt("%.4f", dis.orifice) << " | " << fmt("%.2f", dis.orifice / d) << " | ";
     if (!dis.flowed) {
-      out << "did not flow steadily | | | |\n";
+      out << "did not flow steadily (it stopped, or too few samples) | | | |\n";
       continue;
     }
     out << fmt("%.4f", dis.steady.rate) << " | " << fmt("%.4f", dis.steady.standardError) << " | "

@@ -264,8 +264,13 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
                  std::to_string(walls.orifices.size())));
     try {
       discharge.steady = steadyDischargeRate(discharge.time, discharge.discharged, 0.2, 0.8);
-      discharge.flowed =
-          discharge.discharged.back() > 0.05 * result.bedMass && discharge.steady.samples >= 10;
+      // Steady: a window of ten samples or more, and still flowing at half that rate or more
+      // over the last quarter of the discharge (an orifice that arched and stopped did not).
+      const double end = discharge.time.back();
+      const SteadyRate last =
+          steadyDischargeRateInWindow(discharge.time, discharge.discharged, 0.75 * end, end);
+      discharge.flowed = discharge.steady.samples >= 10 && discharge.steady.rate > 0.0 &&
+                         last.rate >= 0.5 * discharge.steady.rate;
     } catch (const std::invalid_argument&) {
       discharge.flowed = false;
     }

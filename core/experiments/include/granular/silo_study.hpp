@@ -54,7 +54,9 @@ struct SiloDischarge {
   SteadyRate steady;               ///< the steady rate, 20-80 % of what it discharged
   /// p_h per level during the steady window (the switch from the filling pressures) [Pa].
   std::vector<double> wallPressure;
-  bool flowed = false;  ///< enough left for a steady rate (else it jammed or barely ran)
+  /// A steady rate was measured: ten samples or more in its window, and the flow over the
+  /// last quarter of the discharge at half that rate or more (else it arched and stopped).
+  bool flowed = false;
 };
 
 struct SiloStudyResult {
