@@ -60,11 +60,16 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
       << fmt("%.1f", seconds) << " s (the fill " << fmt("%.1f", r.fillSeconds) << " s).\n\n";
 
   out << "## At rest: the wall pressure and Janssen's law\n\n"
-      << "Averaged over " << r.restSamples
-      << " samples of the settled bed; bands of the wall and slices of the section two "
+      << "Averaged over " << r.restSamples << " samples of the settled bed";
+  if (r.wallLift > 0) {
+    out << ", after the cylinder was lifted by " << fmt("%.3g", r.wallLift)
+        << " m, slowly, so that the bed slid down along the whole wall and mobilised its "
+           "friction at every height (as poured, the top of a bed carries almost none)";
+  }
+  out << ". Bands of the wall and slices of the section two "
          "diameters high. p_h: the wall's normal pressure; τ_w: its upward shear on the bed; σ_v: "
          "Eq. (1) over the slice; K = p_h/σ_v; μ_mob = τ_w/p_h. Levels marked * are in the bed "
-         "(below the surface, a band above the floor) and enter the fits.\n\n"
+         "(a band or more below the surface and above the floor) and enter the fits.\n\n"
       << "| z [m] | depth [m] | p_h [Pa] | ± [Pa] | τ_w [Pa] | σ_v [Pa] | K [-] | μ_mob [-] | "
          "ρ_b [kg/m³] |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const SiloLevel& l : r.levels) {

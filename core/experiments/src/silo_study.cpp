@@ -147,7 +147,8 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     top = std::max(top, p.position[i].z() + p.radius[i]);
   }
 
-  // 2. At rest: bands of the wall and slices of the section at the same heights.
+  // 2. The wall lifted past the bed (its friction mobilised at every height), then at rest:
+  // bands of the wall and slices of the section at the same heights.
   const double band = options.bandHeight > 0 ? options.bandHeight : 2.0 * result.particleDiameter;
   std::vector<double> edges;
   for (double z = walls.floorZ; z < top; z += band) edges.push_back(z);
@@ -155,6 +156,17 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   const std::size_t levels = edges.size() - 1;
   WallBandAverage wall(edges, cylinderBandAreas(walls.radius, edges));
   std::vector<double> sigmaV(levels, 0.0), mass(levels, 0.0);
+  if (options.wallLift > 0.0) {
+    if (!(options.wallLiftSpeed > 0.0)) {
+      throw ConfigError("silo study: the wall's lift speed must be > 0 m/s");
+    }
+    result.wallLift = options.wallLift * result.particleDiameter;
+    StageSpec lift;
+    lift.name = "lift";
+    lift.wallMotions.push_back({"wall", Vec3(0.0, 0.0, options.wallLiftSpeed)});
+    runSampled(sim, lift, result.wallLift / options.wallLiftSpeed, options.sampleInterval, {},
+               progress("lift"));
+  }
   StageSpec rest;
   rest.name = "rest";
   runSampled(
@@ -207,7 +219,10 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
         level.verticalStress > 0 ? level.wallPressure / level.verticalStress : std::nan("");
     level.mobilisedFriction =
         level.wallPressure > 0 ? level.wallShear / level.wallPressure : std::nan("");
-    level.inBed = level.zHigh <= result.surface && level.zLow >= walls.floorZ + band;
+    // In the bed: a band clear of the floor (the layering a flat floor orders) and of the
+    // surface (rough at the particles' scale, where a slice is not yet filled and its depth is
+    // uncertain by a radius, a large fraction of so small a depth).
+    level.inBed = level.zHigh <= result.surface - band && level.zLow >= walls.floorZ + band;
     if (!level.inBed) continue;
     depths.push_back(level.depth);
     stresses.push_back(level.verticalStress);

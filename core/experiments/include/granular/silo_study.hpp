@@ -28,6 +28,12 @@ struct SiloStudyOptions {
   double sampleInterval = 0.01;  ///< between samples, at rest and during discharge [s]
   double bandHeight = 0.0;       ///< bands and slices [m]; 0: two mean particle diameters
   double dischargeTime = 1.0;    ///< each discharge's length [s]
+  /// After the fill, the cylinder is lifted by this many mean particle diameters, slowly, so
+  /// that the bed slides down along the whole wall and the wall's friction is mobilised at
+  /// every height (a poured bed's top carries almost none, which Janssen's law assumes it
+  /// does); 0 measures the bed as poured [-].
+  double wallLift = 0.25;
+  double wallLiftSpeed = 0.02;  ///< the cylinder's speed while lifted [m/s]
   /// Called every few hundred steps with what runs ("fill", "rest", "orifice 2 of 4").
   std::function<void(const Simulation&, const std::string& phase)> onProgress;
 };
@@ -43,7 +49,7 @@ struct SiloLevel {
   double bulkDensity = 0;        ///< the slice's mass over its volume, the mean [kg/m³]
   double lateralRatio = 0;       ///< K = p_h / σ_v [-]
   double mobilisedFriction = 0;  ///< τ_w / p_h [-]
-  bool inBed = false;            ///< wholly below the surface and above the floor's first diameter
+  bool inBed = false;            ///< a band or more below the surface and above the floor
 };
 
 /// One orifice's discharge.
@@ -67,6 +73,7 @@ struct SiloStudyResult {
   double bedMass = 0;           ///< [kg]
   double bulkDensity = 0;       ///< mean over the levels in the bed [kg/m³]
   double fillSeconds = 0;       ///< wall-clock time of the fill [s]
+  double wallLift = 0;          ///< how far the cylinder was lifted after the fill [m]
   std::vector<SiloLevel> levels;
   std::size_t restSamples = 0;
   JanssenFit janssen;      ///< λ fitted to σ_v over the levels in the bed, γ = ρ_b g
