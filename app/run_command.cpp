@@ -274,15 +274,15 @@ int runScene(const RunOptions& options) {
   // the whole state is gathered for the files (Simulation::splitAmong).
   if (ranks) sim.splitAmong(bricksFor(scene, sim, ranks->size()), options.ranks);
 
+  const bool exchanges = exchangesParticles(scene);
   const std::filesystem::path seriesPath = outDir / "timeseries.csv";
   std::optional<TimeSeriesWriter> series;
   if (!root) {
   } else if (start.resumed) {
     series.emplace(seriesPath, reactionWallNames(scene), progress.seriesBytes, progress.seriesHash,
-                   exchangesParticles(scene));
+                   exchanges);
   } else {
-    series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material,
-                   exchangesParticles(scene));
+    series.emplace(seriesPath, reactionWallNames(scene), scene.simulation.material, exchanges);
   }
   // A file written from the whole state: gathered from every rank in a split run.
   auto withWhole = [&](const Simulation& s, const std::function<void(const Simulation&)>& write) {
@@ -339,7 +339,7 @@ int runScene(const RunOptions& options) {
           series->write(stage.name, s);
         } else {
           (void)s.energy();  // the row's energies: every rank takes part in their sums
-          if (exchangesParticles(scene)) (void)s.particleTally();
+          if (exchanges) (void)s.particleTally();
         }
         if (s.counters().unstableChecks > 0 && !unstableReported) {
           // on_unstable = "warn": said once; the summary gives the count.

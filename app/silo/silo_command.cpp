@@ -62,7 +62,7 @@ int runSilo(const SiloOptions& options) {
     std::cout << "Beverloo: C = " << result.beverloo.c << ", k = " << result.beverloo.k << "\n";
   }
   std::cout << "wrote " << (options.outDir / "report.md").string() << ", levels.csv, "
-            << "discharge.csv";
+            << "discharge.csv" << (result.hasHopper ? ", hopper.csv" : "");
   for (const std::filesystem::path& f : figures) std::cout << ", " << f.filename().string();
   std::cout << " (" << seconds << " s)\n";
   return 0;

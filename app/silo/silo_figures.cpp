@@ -43,39 +43,59 @@ std::vector<double> middles(const SiloStudyResult& r) {
 }  // namespace
 
 render::Image wallPressureFigure(const SiloStudyResult& r) {
-  const std::vector<double> z = middles(r);
-  {
-    render::PlotSpec p = basePlot("Wall pressure", "p_h [Pa]", "z [m]");
-    render::Series rest;
-    rest.label = "at rest";
-    rest.width = 2.2;
-    rest.marker = render::Marker::Circle;
-    render::Series low, high;
-    for (const SiloLevel& l : r.levels) {
-      rest.x.push_back(l.wallPressure);
-      low.x.push_back(l.wallPressure - l.wallPressureStd);
-      high.x.push_back(l.wallPressure + l.wallPressureStd);
-    }
-    rest.y = low.y = high.y = z;
-    low.dash = high.dash = render::Series::Dotted;
-    low.width = high.width = 1.0;
-    low.label = "at rest ± its scatter";
-    rest.color = low.color = high.color = render::categorical(0);
-    p.series = {rest, low, high};
-    int index = 1;
-    for (const SiloDischarge& d : r.discharges) {
-      if (!d.flowed) continue;
-      render::Series s;
-      s.x = d.wallPressure;
-      s.y = z;
-      s.color = render::categorical(index++);
-      s.width = 1.6;
-      s.label = "discharging, " + orificeLabel(d, r.particleDiameter);
-      p.series.push_back(s);
-    }
-    p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
-    return render::drawPlot(p);
+  // Along the wall from the bottom up: the hopper's bands (its normal pressure), then the
+  // cylinder's levels (p_h), one line each.
+  std::vector<double> z;
+  for (const HopperBand& b : r.hopperBands) z.push_back(0.5 * (b.zLow + b.zHigh));
+  for (double m : middles(r)) z.push_back(m);
+  const auto alongWall = [&r](const std::vector<double>& hopper,
+                              const std::vector<double>& cylinder) {
+    std::vector<double> x(hopper.begin(), hopper.end());
+    x.insert(x.end(), cylinder.begin(), cylinder.end());
+    x.resize(r.hopperBands.size() + r.levels.size(), 0.0);
+    return x;
+  };
+  render::PlotSpec p = r.hasHopper
+                           ? basePlot("Wall pressure: p_h on the cylinder, p_n on the hopper",
+                                      "p_h, p_n [Pa]", "z [m]")
+                           : basePlot("Wall pressure", "p_h [Pa]", "z [m]");
+  render::Series rest;
+  rest.label = "at rest";
+  rest.width = 2.2;
+  rest.marker = render::Marker::Circle;
+  render::Series low, high;
+  for (const HopperBand& b : r.hopperBands) {
+    rest.x.push_back(b.wallPressure);
+    low.x.push_back(b.wallPressure - b.wallPressureStd);
+    high.x.push_back(b.wallPressure + b.wallPressureStd);
   }
+  for (const SiloLevel& l : r.levels) {
+    rest.x.push_back(l.wallPressure);
+    low.x.push_back(l.wallPressure - l.wallPressureStd);
+    high.x.push_back(l.wallPressure + l.wallPressureStd);
+  }
+  rest.y = low.y = high.y = z;
+  low.dash = high.dash = render::Series::Dotted;
+  low.width = high.width = 1.0;
+  low.label = "at rest ± its scatter";
+  rest.color = low.color = high.color = render::categorical(0);
+  p.series = {rest, low, high};
+  int index = 1;
+  for (const SiloDischarge& d : r.discharges) {
+    if (!d.flowed) continue;
+    render::Series s;
+    s.x = alongWall(d.hopperPressure, d.wallPressure);
+    s.y = z;
+    s.color = render::categorical(index++);
+    s.width = 1.6;
+    s.label = "discharging, " + orificeLabel(d, r.particleDiameter);
+    p.series.push_back(s);
+  }
+  p.references.push_back({r.surface, "surface", {80, 80, 80, 255}, 1.0, true});
+  if (r.hasHopper) {
+    p.references.push_back({r.transition, "transition", {80, 80, 80, 255}, 1.0, true});
+  }
+  return render::drawPlot(p);
 }
 
 render::Image verticalStressFigure(const SiloStudyResult& r) {

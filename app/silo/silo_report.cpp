@@ -45,6 +45,56 @@ Switch switchOf(const SiloStudyResult& r, const SiloDischarge& d) {
   return s;
 }
 
+std::string floorWords(const SiloStudyResult& r) {
+  if (!r.hasHopper) return "a flat floor";
+  return "a conical hopper of half-angle " + fmt("%.1f", r.hopperHalfAngle * 180.0 / M_PI) +
+         "° from the vertical (the transition at z = " + fmt("%.3f", r.transition) + " m)";
+}
+
+/// The hopper's wall: its normal pressure per band at rest and in each discharge's steady
+/// window.
+void hopperSection(std::ostringstream& out, const SiloStudyResult& r) {
+  out << "## The hopper's wall\n\n"
+      << "p_n: the hopper wall's normal pressure, per band, at rest (with its scatter over the "
+         "samples) and in each discharge's steady window.\n\n"
+      << "| z [m] | p_n at rest [Pa] | ± [Pa] |";
+  for (const SiloDischarge& dis : r.discharges) {
+    if (dis.flowed) out << " D₀ = " << fmt("%.3f", dis.orifice) << " m [Pa] |";
+  }
+  out << "\n|---|---|---|";
+  for (const SiloDischarge& dis : r.discharges) {
+    if (dis.flowed) out << "---|";
+  }
+  out << "\n";
+  for (std::size_t k = 0; k < r.hopperBands.size(); ++k) {
+    const HopperBand& b = r.hopperBands[k];
+    out << "| " << fmt("%.3f", b.zLow) << "–" << fmt("%.3f", b.zHigh) << " | "
+        << fmt("%.1f", b.wallPressure) << " | " << fmt("%.1f", b.wallPressureStd) << " |";
+    for (const SiloDischarge& dis : r.discharges) {
+      if (dis.flowed) out << " " << fmt("%.1f", dis.hopperPressure[k]) << " |";
+    }
+    out << "\n";
+  }
+  // The switch on the hopper's wall: the largest ratio of discharge to rest over its bands.
+  for (const SiloDischarge& dis : r.discharges) {
+    if (!dis.flowed) continue;
+    double largest = 0.0;
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < r.hopperBands.size(); ++k) {
+      const double ratio = dis.hopperPressure[k] / r.hopperBands[k].wallPressure;
+      if (ratio > largest) {
+        largest = ratio;
+        at = k;
+      }
+    }
+    const HopperBand& b = r.hopperBands[at];
+    out << "\nD₀ = " << fmt("%.3f", dis.orifice) << " m: p_n rises to " << fmt("%.2f", largest)
+        << " times its value at rest at z = " << fmt("%.3f", 0.5 * (b.zLow + b.zHigh)) << " m"
+        << (b.zHigh >= r.transition - 1e-12 ? " (the band under the transition)" : "") << ".";
+  }
+  out << "\n\n";
+}
+
 }  // namespace
 
 std::string siloReport(const SiloStudyResult& r, const std::string& scene, double seconds,
@@ -52,8 +102,8 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
   std::ostringstream out;
   const double d = r.particleDiameter;
   out << "# Silo study\n\n"
-      << "Scene `" << scene << "`: a cylinder of radius " << fmt("%.4g", r.radius)
-      << " m on a flat floor, filled by pouring; " << fmt("%.4g", r.bedMass)
+      << "Scene `" << scene << "`: a cylinder of radius " << fmt("%.4g", r.radius) << " m on "
+      << floorWords(r) << ", filled by pouring; " << fmt("%.4g", r.bedMass)
       << " kg of spheres of mean diameter d = " << fmt("%.4g", d) << " m. Bulk density "
       << fmt("%.4g", r.bulkDensity) << " kg/m³ (the middle of the bed), surface at "
       << fmt("%.4g", r.surface) << " m (the bed's height at that density). Wall clock "
@@ -69,7 +119,8 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
   out << ". Bands of the wall and slices of the section two "
          "diameters high. p_h: the wall's normal pressure; τ_w: its upward shear on the bed; σ_v: "
          "Eq. (1) over the slice; K = p_h/σ_v; μ_mob = τ_w/p_h. Levels marked * are in the bed "
-         "(a band or more below the surface and above the floor) and enter the fits.\n\n"
+         "(a band or more below the surface and above the floor or the hopper) and enter the "
+         "fits.\n\n"
       << "| z [m] | depth [m] | p_h [Pa] | ± [Pa] | τ_w [Pa] | σ_v [Pa] | K [-] | μ_mob [-] | "
          "ρ_b [kg/m³] |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const SiloLevel& l : r.levels) {
@@ -107,20 +158,32 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
   if (r.lateralRatio > 0 && r.lateralRatio < 1.1) {
     const double phi = std::asin(1.0 - r.lateralRatio / 1.1) * 180.0 / M_PI;
     out << "EN 1991-4 takes K = 1.1 (1 − sin φ_i); our K = " << fmt("%.3f", r.lateralRatio)
-        << " is its value for φ_i = " << fmt("%.1f", phi)
-        << "°. The bed's own angle of internal friction is not measured by this study.\n\n";
+        << " is its value for φ_i = " << fmt("%.1f", phi) << "°.";
+    if (std::isfinite(r.internalFriction)) {
+      out << " The flowing material's effective angle of internal friction, measured in the "
+             "converging flow above each orifice (below), is "
+          << fmt("%.1f", r.internalFriction * 180.0 / M_PI) << "°, for which EN 1991-4's K is "
+          << fmt("%.3f", en1991LateralRatio(r.internalFriction)) << ", "
+          << fmt("%+.0f %%",
+                 100.0 * (en1991LateralRatio(r.internalFriction) / r.lateralRatio - 1.0))
+          << " from ours.";
+    }
+    out << "\n\n";
   }
 
   out << "## Discharge and Beverloo's law\n\n"
       << "Each orifice opened on the same settled bed, for the same time; the steady rate W is "
-         "the slope of the discharged mass over 20–80 % of what it discharged.\n\n"
-      << "| D₀ [m] | D₀/d | W [kg/s] | ± [kg/s] | window [s] | Beverloo W [kg/s] |\n"
-      << "|---|---|---|---|---|---|\n";
+         "the slope of the discharged mass over 20–80 % of what it discharged. φ_flow: the "
+         "effective "
+         "angle of internal friction, sin φ = (σ1 − σ3)/(σ1 + σ3) of Eq. (1) in a sphere of "
+         "radius D₀/3 on the axis, D₀ above the orifice, the mean over the same window.\n\n"
+      << "| D₀ [m] | D₀/d | W [kg/s] | ± [kg/s] | window [s] | Beverloo W [kg/s] | φ_flow [°] |\n"
+      << "|---|---|---|---|---|---|---|\n";
   const double g = r.gravity;
   for (const SiloDischarge& dis : r.discharges) {
     out << "| " << fmt("%.4f", dis.orifice) << " | " << fmt("%.2f", dis.orifice / d) << " | ";
     if (!dis.flowed) {
-      out << "did not flow steadily (it stopped, or too few samples) | | | |\n";
+      out << "did not flow steadily (it stopped, or too few samples) | | | | |\n";
       continue;
     }
     out << fmt("%.4f", dis.steady.rate) << " | " << fmt("%.4f", dis.steady.standardError) << " | "
@@ -129,15 +192,22 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
       out << fmt("%.4f",
                  beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, g, dis.orifice, d));
     }
-    out << " |\n";
+    out << " | " << fmt("%.1f", dis.internalFriction * 180.0 / M_PI) << " |\n";
   }
   if (r.beverlooFitted) {
     const bool inRange = r.beverloo.c >= t.cMin && r.beverloo.c <= t.cMax;
     out << "\nW = C ρ_b √g (D₀ − k d)^(5/2) fitted over " << r.beverloo.points
         << " orifices: C = " << fmt("%.3f", r.beverloo.c) << ", k = " << fmt("%.3f", r.beverloo.k)
-        << ", RMS " << fmt("%.1f %%", 100 * r.beverloo.rmsRelativeResidual) << ". C in the "
-        << "literature's " << fmt("%.2f", t.cMin) << "–" << fmt("%.2f", t.cMax) << ": "
-        << met(inRange) << ".\n\n";
+        << ", RMS " << fmt("%.1f %%", 100 * r.beverloo.rmsRelativeResidual) << ". ";
+    if (r.hasHopper) {
+      out << "The literature's C, " << fmt("%.2f", t.cMin) << "–" << fmt("%.2f", t.cMax)
+          << ", is a flat floor's; a hopper's converging wall feeds its orifice faster (Rose and "
+             "Tanaka's factor (tan θ_h tan φ_d)^−0.35 where θ_h < 90° − φ_d), so its C is the "
+             "flat floor's times that factor: compare it with the flat silo's.\n\n";
+    } else {
+      out << "C in the literature's " << fmt("%.2f", t.cMin) << "–" << fmt("%.2f", t.cMax) << ": "
+          << met(inRange) << ".\n\n";
+    }
   } else {
     out << "\nBeverloo's law not fitted: fewer than two orifices flowed steadily.\n\n";
   }
@@ -151,8 +221,11 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
     out << "| " << fmt("%.4f", dis.orifice) << " | " << fmt("%.2f", s.ratio) << " | "
         << fmt("%.3f", 0.5 * (l.zLow + l.zHigh)) << " | " << (s.peak ? "yes" : "no") << " |\n";
   }
-  out << "\nFigures: `wall_pressure.png`, `vertical_stress.png`, `discharge.png`. Tables: "
-         "`levels.csv`, `discharge.csv`.\n";
+  out << "\n";
+  if (r.hasHopper) hopperSection(out, r);
+  out << "Figures: `wall_pressure.png`, `vertical_stress.png`, `discharge.png`. Tables: "
+         "`levels.csv`, `discharge.csv`"
+      << (r.hasHopper ? ", `hopper.csv`" : "") << ".\n";
   return out.str();
 }
 
@@ -187,6 +260,23 @@ void writeSiloTables(const SiloStudyResult& r, const std::filesystem::path& dir)
     }
   }
   writeTextFile(dir / "discharge.csv", discharge.str());
+  if (!r.hasHopper) return;
+  std::ostringstream hopper;
+  hopper << "z_low_m,z_high_m,wall_pressure_Pa,wall_pressure_std_Pa";
+  for (std::size_t k = 0; k < r.discharges.size(); ++k) {
+    hopper << ",wall_pressure_discharge" << (k + 1) << "_Pa";
+  }
+  hopper << "\n";
+  for (std::size_t i = 0; i < r.hopperBands.size(); ++i) {
+    const HopperBand& b = r.hopperBands[i];
+    hopper << csvNumber(b.zLow) << ',' << csvNumber(b.zHigh) << ',' << csvNumber(b.wallPressure)
+           << ',' << csvNumber(b.wallPressureStd);
+    for (const SiloDischarge& d : r.discharges) {
+      hopper << ',' << csvNumber(i < d.hopperPressure.size() ? d.hopperPressure[i] : std::nan(""));
+    }
+    hopper << "\n";
+  }
+  writeTextFile(dir / "hopper.csv", hopper.str());
 }
 
 }  // namespace granular::app

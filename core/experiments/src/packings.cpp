@@ -7,15 +7,10 @@
 #include <string>
 
 #include "granular/error.hpp"
+#include "unit_uniform.hpp"
 
 namespace granular {
 namespace {
-
-/// Maps the top 53 bits of a raw 64-bit draw to [0, 1): exact in a double and the same on every
-/// standard library, unlike std::uniform_real_distribution.
-double unitInterval(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 /// A point uniform in the unit ball, by rejection from the cube [-1, 1)³ (accepts ~52 %).
 Vec3 unitBall(std::mt19937_64& rng) {
@@ -23,9 +18,9 @@ Vec3 unitBall(std::mt19937_64& rng) {
     // Drawn one statement at a time: the order in which a call's arguments are evaluated is
     // unspecified (GCC goes right to left, clang left to right), and the seed must give the
     // same packing with every compiler. z, y, x keeps the values GCC has always given.
-    const double z = 2.0 * unitInterval(rng) - 1.0;
-    const double y = 2.0 * unitInterval(rng) - 1.0;
-    const double x = 2.0 * unitInterval(rng) - 1.0;
+    const double z = 2.0 * unitUniform(rng) - 1.0;
+    const double y = 2.0 * unitUniform(rng) - 1.0;
+    const double x = 2.0 * unitUniform(rng) - 1.0;
     const Vec3 p(x, y, z);
     if (p.squaredNorm() <= 1.0) return p;
   }
@@ -78,7 +73,7 @@ Particles denseRandomPacking(std::size_t n, double radiusMin, double radiusMax, 
         if ((i + j + k) % 2 != 0) continue;
         // Per particle: one draw for the radius, then the jitter; the order is part of the
         // seed's meaning, keep it.
-        const double r = radiusMin + (radiusMax - radiusMin) * unitInterval(rng);
+        const double r = radiusMin + (radiusMax - radiusMin) * unitUniform(rng);
         // 0.999 keeps a clear gap against round-off even for r close to radiusMax.
         const double jitter = 0.999 * std::max(0.0, 0.5 * spacing - r);
         const Vec3 site = firstSite + half * Vec3(static_cast<double>(i), static_cast<double>(j),

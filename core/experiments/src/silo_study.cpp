@@ -5,10 +5,14 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "granular/error.hpp"
+#include "granular/lateral_ratio.hpp"
+#include "granular/principal.hpp"
 #include "granular/stage.hpp"
+#include "granular/stress.hpp"
 
 namespace granular {
 
@@ -21,6 +25,11 @@ struct SiloWalls {
   double floorZ = 0;
   std::vector<std::string> opening;  ///< gate, ring1, ring2, …: taken away in this order
   std::vector<double> orifices;      ///< D₀ of each orifice, ascending [m]
+  std::vector<double> outletZ;       ///< each orifice's height: the top of what opens it [m]
+  long hopper = -1;                  ///< the conical hopper's wall, or −1
+  double transition = 0;             ///< the hopper's top, else the floor [m]
+  double hopperBottom = 0;           ///< the hopper's lowest height [m]
+  double hopperRadius = 0;           ///< its radius there [m]
 };
 
 const Wall& namedWall(const Simulation& sim, const std::string& name) {
@@ -29,10 +38,13 @@ const Wall& namedWall(const Simulation& sim, const std::string& name) {
   return sim.walls()[std::size_t(index)];
 }
 
-/// A flat annulus or disc about the silo's axis (a frustum of no length).
-double outerRadiusOfFlat(const Wall& w) {
-  if (w.shape != WallShape::Frustum || w.length != 0.0) {
-    throw ConfigError("silo study: wall '" + w.name + "' must be a disc or an annulus");
+/// The outer radius of a gate or ring: a disc or annulus, or a piece of a hopper's cone, about
+/// the silo's axis; taking it away opens an orifice of twice that radius.
+double outerRadiusOfOpening(const Wall& w) {
+  if (w.shape != WallShape::Frustum || std::abs(w.normal.z()) < 1.0 - 1e-12 ||
+      std::abs(w.point.x()) + std::abs(w.point.y()) > 1e-12) {
+    throw ConfigError("silo study: wall '" + w.name +
+                      "' must be a disc, an annulus or a cone about the silo's axis");
   }
   return std::max(w.radiusStart, w.radiusEnd);
 }
@@ -49,11 +61,32 @@ SiloWalls siloWalls(const Simulation& sim) {
   const Wall& gate = namedWall(sim, "gate");
   s.floorZ = gate.point.z();
   s.opening.push_back("gate");
-  s.orifices.push_back(2.0 * outerRadiusOfFlat(gate));
+  s.orifices.push_back(2.0 * outerRadiusOfOpening(gate));
+  s.outletZ.push_back(s.floorZ);
   for (int k = 1; sim.findWall("ring" + std::to_string(k)) >= 0; ++k) {
     const std::string name = "ring" + std::to_string(k);
     s.opening.push_back(name);
-    s.orifices.push_back(2.0 * outerRadiusOfFlat(namedWall(sim, name)));
+    const Wall& ring = namedWall(sim, name);
+    s.orifices.push_back(2.0 * outerRadiusOfOpening(ring));
+    s.outletZ.push_back(std::max(s.outletZ.back(), ring.point.z() + ring.length * ring.normal.z()));
+  }
+  s.transition = s.floorZ;
+  s.hopper = sim.findWall("hopper");
+  if (s.hopper >= 0) {
+    const Wall& h = sim.walls()[std::size_t(s.hopper)];
+    const double scale = std::max(1.0, s.radius);
+    if (h.shape != WallShape::Frustum || !(h.length > 0.0) || h.normal.z() < 1.0 - 1e-12 ||
+        std::abs(h.point.x()) + std::abs(h.point.y()) > 1e-12 * scale ||
+        h.point.z() < s.floorZ - 1e-9 * scale || std::abs(h.radiusEnd - s.radius) > 1e-9 * scale ||
+        !(h.radiusStart < h.radiusEnd) || 2.0 * h.radiusStart < s.orifices.back() * (1.0 - 1e-9)) {
+      throw ConfigError(
+          "silo study: wall 'hopper' must be a cone with axis [0, 0, 1] on the silo's axis, "
+          "from the floor or above, where its radius is the largest orifice's or more, to the "
+          "cylinder's radius");
+    }
+    s.hopperBottom = h.point.z();
+    s.transition = s.hopperBottom + h.length;
+    s.hopperRadius = h.radiusStart;
   }
   return s;
 }
@@ -61,11 +94,12 @@ SiloWalls siloWalls(const Simulation& sim) {
 /// What one sample of the bed gives per level.
 struct LevelSample {
   std::vector<WallContact> wall;
+  std::vector<WallContact> hopper;
   std::vector<SliceContact> slices;
   std::vector<double> mass;  ///< per level: the particles whose centres are in it [kg]
 };
 
-LevelSample sampleBed(const Simulation& sim, std::size_t cylinder,
+LevelSample sampleBed(const Simulation& sim, std::size_t cylinder, long hopper,
                       const std::vector<double>& edges) {
   LevelSample out;
   out.mass.assign(edges.size() - 1, 0.0);
@@ -74,12 +108,12 @@ LevelSample sampleBed(const Simulation& sim, std::size_t cylinder,
     if (!c.touching()) return;
     const Vec3& x = p.position[c.particle];
     out.slices.push_back({x.z(), c.force.z(), c.point.z() - x.z()});
-    if (c.isWall() && c.wall() == cylinder) {
-      const Vec3 onWall = -c.force;  // the particle's push on the wall
-      const double normal = onWall.dot(c.normal);
-      const Vec3 tangential = onWall - normal * c.normal;
-      out.wall.push_back({c.point.z(), std::max(normal, 0.0), tangential.norm(), onWall.z()});
-    }
+    if (!c.isWall() || (c.wall() != cylinder && long(c.wall()) != hopper)) return;
+    const Vec3 onWall = -c.force;  // the particle's push on the wall
+    const double normal = onWall.dot(c.normal);
+    const Vec3 tangential = onWall - normal * c.normal;
+    const WallContact contact{c.point.z(), std::max(normal, 0.0), tangential.norm(), onWall.z()};
+    (c.wall() == cylinder ? out.wall : out.hopper).push_back(contact);
   });
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double z = p.position[i].z();
@@ -111,6 +145,42 @@ void runSampled(Simulation& sim, StageSpec stage, double duration, double interv
     observer.onProgress = [&](const Simulation& s, const StageSpec&) { progress(s); };
   }
   runStage(sim, stage, output, observer);
+}
+
+/// The angle of internal friction of Eq. (1)'s stress over the sphere at `centre` of `radius`
+/// (internalFrictionAngleFromStresses), from the particles' own stresses (particleStresses:
+/// Σ_i V_i σ^i over its members is Eq. (1)'s sum) [rad]; NaN where the sphere holds no
+/// compressed particle or is in tension.
+double frictionAngleIn(const Simulation& sim, const std::vector<Mat3>& stresses, const Vec3& centre,
+                       double radius) {
+  const Particles& p = sim.particles();
+  Mat3 sum = Mat3::Zero();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if ((p.position[i] - centre).squaredNorm() > radius * radius) continue;
+    const double r = p.radius[i];
+    sum += (4.0 / 3.0 * std::numbers::pi * r * r * r) * stresses[i];
+  }
+  // Compression is negative in Eq. (1): σ1, the most compressive, is the smallest value.
+  const Vec3 principal = principalStresses(sum).values;
+  if (!(principal.x() < 0.0) || principal.z() > 0.0) return std::nan("");
+  return internalFrictionAngleFromStresses(-principal.x(), -principal.z());
+}
+
+/// The mean of per-sample values (one vector of `size` per sample) over the discharge's steady
+/// window; zeros when it did not flow.
+std::vector<double> steadyWindowMean(const SiloDischarge& discharge,
+                                     const std::vector<std::vector<double>>& perSample,
+                                     std::size_t size) {
+  std::vector<double> mean(size, 0.0);
+  std::size_t used = 0;
+  for (std::size_t s = 0; s < perSample.size(); ++s) {
+    const double t = discharge.time[s];
+    if (!discharge.flowed || t < discharge.steady.t0 || t > discharge.steady.t1) continue;
+    for (std::size_t l = 0; l < size; ++l) mean[l] += perSample[s][l];
+    ++used;
+  }
+  for (double& x : mean) x /= double(std::max<std::size_t>(used, 1));
+  return mean;
 }
 
 }  // namespace
@@ -150,12 +220,35 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   // 2. The wall lifted past the bed (its friction mobilised at every height), then at rest:
   // bands of the wall and slices of the section at the same heights.
   const double band = options.bandHeight > 0 ? options.bandHeight : 2.0 * result.particleDiameter;
+  if (!(top > walls.transition + 4.0 * band)) {
+    throw ConfigError("silo study: the bed is too shallow to measure (under four bands above " +
+                      std::string(walls.hopper >= 0 ? "the hopper" : "the floor") + ")");
+  }
   std::vector<double> edges;
-  for (double z = walls.floorZ; z < top; z += band) edges.push_back(z);
+  for (double z = walls.transition; z < top; z += band) edges.push_back(z);
   edges.push_back(edges.back() + band);
   const std::size_t levels = edges.size() - 1;
   WallBandAverage wall(edges, cylinderBandAreas(walls.radius, edges));
   std::vector<double> sigmaV(levels, 0.0), mass(levels, 0.0);
+  // The hopper's wall in bands of about the same height, its top edge at the transition.
+  result.transition = walls.transition;
+  std::vector<double> hopperEdges;
+  if (walls.hopper >= 0) {
+    result.hasHopper = true;
+    const double height = walls.transition - walls.hopperBottom;
+    result.hopperHalfAngle = std::atan((walls.radius - walls.hopperRadius) / height);
+    const long count = std::max(1L, std::lround(height / band));
+    for (long k = 0; k <= count; ++k) {
+      hopperEdges.push_back(k == count ? walls.transition
+                                       : walls.hopperBottom + height * double(k) / double(count));
+    }
+  }
+  const auto hopperAreas = [&] {
+    return frustumBandAreas(walls.hopperBottom, walls.hopperRadius, walls.transition, walls.radius,
+                            hopperEdges);
+  };
+  std::optional<WallBandAverage> hopperWall;
+  if (result.hasHopper) hopperWall.emplace(hopperEdges, hopperAreas());
   if (options.wallLift > 0.0) {
     if (!(options.wallLiftSpeed > 0.0)) {
       throw ConfigError("silo study: the wall's lift speed must be > 0 m/s");
@@ -172,8 +265,9 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   runSampled(
       sim, rest, options.restWindow, options.sampleInterval,
       [&](const Simulation& s) {
-        const LevelSample sample = sampleBed(s, walls.cylinder, edges);
+        const LevelSample sample = sampleBed(s, walls.cylinder, walls.hopper, edges);
         wall.addSample(sample.wall);
+        if (hopperWall) hopperWall->addSample(sample.hopper);
         const SliceStressProfile profile = cylinderSliceStress(sample.slices, walls.radius, edges);
         for (std::size_t k = 0; k < levels; ++k) {
           sigmaV[k] += profile.slices[k].sigmaV;
@@ -196,11 +290,18 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     level.verticalStress = sigmaV[k] / n;
     level.bulkDensity = mass[k] / n / (section * band);
   }
-  // The surface: the bed's height at the bulk density of its middle (the levels a band clear of
-  // the floor and two below the highest particle), which the uneven free surface does not bias.
-  double middleMass = 0.0, middleVolume = 0.0;
+  if (hopperWall) {
+    for (const WallBandStats& b : hopperWall->bands()) {
+      result.hopperBands.push_back({b.zLow, b.zHigh, b.meanPressure, b.pressureStd});
+    }
+  }
+  // The surface: the height the cylinder's part of the bed reaches at the bulk density of its
+  // middle (the levels a band clear of the floor or the transition and two below the highest
+  // particle), which the uneven free surface does not bias.
+  double middleMass = 0.0, middleVolume = 0.0, cylinderMass = 0.0;
   for (const SiloLevel& level : result.levels) {
-    if (level.zLow >= walls.floorZ + band && level.zHigh <= top - 2.0 * band) {
+    cylinderMass += level.bulkDensity * section * band;
+    if (level.zLow >= walls.transition + band && level.zHigh <= top - 2.0 * band) {
       middleMass += level.bulkDensity * section * band;
       middleVolume += section * band;
     }
@@ -209,7 +310,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     throw ConfigError("silo study: the bed is too shallow to measure (under four bands)");
   }
   result.bulkDensity = middleMass / middleVolume;
-  result.surface = walls.floorZ + result.bedMass / (result.bulkDensity * section);
+  result.surface = walls.transition + cylinderMass / (result.bulkDensity * section);
   std::vector<double> depths, stresses;
   double shearSum = 0.0, stressSum = 0.0, kSum = 0.0, muSum = 0.0;
   std::size_t inBed = 0;
@@ -222,7 +323,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     // In the bed: a band clear of the floor (the layering a flat floor orders) and of the
     // surface (rough at the particles' scale, where a slice is not yet filled and its depth is
     // uncertain by a radius, a large fraction of so small a depth).
-    level.inBed = level.zHigh <= result.surface - band && level.zLow >= walls.floorZ + band;
+    level.inBed = level.zHigh <= result.surface - band && level.zLow >= walls.transition + band;
     if (!level.inBed) continue;
     depths.push_back(level.depth);
     stresses.push_back(level.verticalStress);
@@ -265,15 +366,24 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     stage.outlets.push_back(outlet);
     stage.exchangeInterval = options.sampleInterval;
     WallBandAverage perSample(edges, cylinderBandAreas(walls.radius, edges));
-    std::vector<std::vector<double>> pressures;
+    std::optional<WallBandAverage> hopperPerSample;
+    if (result.hasHopper) hopperPerSample.emplace(hopperEdges, hopperAreas());
+    std::vector<std::vector<double>> pressures, hopperPressures;
+    std::vector<double> frictionAngles;
     const double start = run.time();
     runSampled(
         run, stage, options.dischargeTime, options.sampleInterval,
         [&](const Simulation& s) {
           discharge.time.push_back(s.time() - start);
           discharge.discharged.push_back(s.particleTally().removedMass);
-          pressures.push_back(
-              perSample.addSample(sampleBed(s, walls.cylinder, edges).wall).pressure);
+          const LevelSample sample = sampleBed(s, walls.cylinder, walls.hopper, edges);
+          pressures.push_back(perSample.addSample(sample.wall).pressure);
+          frictionAngles.push_back(frictionAngleIn(
+              s, particleStresses(s), Vec3(0.0, 0.0, walls.outletZ[k] + discharge.orifice),
+              discharge.orifice / 3.0));
+          if (hopperPerSample) {
+            hopperPressures.push_back(hopperPerSample->addSample(sample.hopper).pressure);
+          }
         },
         progress("orifice " + std::to_string(k + 1) + " of " +
                  std::to_string(walls.orifices.size())));
@@ -289,25 +399,39 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     } catch (const std::invalid_argument&) {
       discharge.flowed = false;
     }
-    discharge.wallPressure.assign(levels, 0.0);
-    std::size_t used = 0;
-    for (std::size_t s = 0; s < pressures.size(); ++s) {
+    discharge.wallPressure = steadyWindowMean(discharge, pressures, levels);
+    discharge.internalFriction = std::nan("");
+    double angleSum = 0.0;
+    std::size_t angles = 0;
+    for (std::size_t s = 0; s < frictionAngles.size() && discharge.flowed; ++s) {
       const double t = discharge.time[s];
-      if (!discharge.flowed || t < discharge.steady.t0 || t > discharge.steady.t1) continue;
-      for (std::size_t l = 0; l < levels; ++l) discharge.wallPressure[l] += pressures[s][l];
-      ++used;
+      if (t < discharge.steady.t0 || t > discharge.steady.t1) continue;
+      if (!std::isfinite(frictionAngles[s])) continue;
+      angleSum += frictionAngles[s];
+      ++angles;
     }
-    for (double& x : discharge.wallPressure) x /= double(std::max<std::size_t>(used, 1));
+    if (angles > 0) discharge.internalFriction = angleSum / double(angles);
+    if (result.hasHopper) {
+      discharge.hopperPressure =
+          steadyWindowMean(discharge, hopperPressures, hopperEdges.size() - 1);
+    }
     result.discharges.push_back(std::move(discharge));
   }
 
-  // 4. Beverloo over the orifices that flowed.
+  // 4. Beverloo over the orifices that flowed; the flowing material's angle of friction.
   std::vector<double> orifices, rates;
+  double frictionSum = 0.0;
+  std::size_t frictionCount = 0;
   for (const SiloDischarge& d : result.discharges) {
     if (!d.flowed) continue;
     orifices.push_back(d.orifice);
     rates.push_back(d.steady.rate);
+    if (std::isfinite(d.internalFriction)) {
+      frictionSum += d.internalFriction;
+      ++frictionCount;
+    }
   }
+  result.internalFriction = frictionCount > 0 ? frictionSum / double(frictionCount) : std::nan("");
   if (orifices.size() >= 2) {
     try {
       result.beverloo =

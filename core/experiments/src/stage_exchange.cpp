@@ -2,6 +2,7 @@
 /// the particles near the region through a hash of cells two largest radii wide, so that a
 /// bed of any size costs only the particles near the region.
 #include "granular/stage_exchange.hpp"
+#include "unit_uniform.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,12 +14,6 @@
 namespace granular {
 
 namespace {
-
-/// The top 53 bits of a raw 64-bit draw as a double in [0, 1): the same on every standard
-/// library, unlike std::uniform_real_distribution.
-double unitInterval(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 /// SplitMix64's finaliser: the seed of an insert's exchange from its seed and number.
 std::uint64_t mix(std::uint64_t x) {
@@ -35,13 +30,13 @@ Vec3 drawCentre(const Region& region, double r, std::mt19937_64& rng) {
     Vec3 x;
     for (int k = 0; k < 3; ++k) {
       const double lo = region.min[k] + r, hi = region.max[k] - r;
-      x[k] = lo + unitInterval(rng) * (hi - lo);
+      x[k] = lo + unitUniform(rng) * (hi - lo);
     }
     return x;
   }
-  const double along = r + unitInterval(rng) * (region.length - 2.0 * r);
-  const double rho = (region.radius - r) * std::sqrt(unitInterval(rng));
-  const double angle = 2.0 * std::numbers::pi * unitInterval(rng);
+  const double along = r + unitUniform(rng) * (region.length - 2.0 * r);
+  const double rho = (region.radius - r) * std::sqrt(unitUniform(rng));
+  const double angle = 2.0 * std::numbers::pi * unitUniform(rng);
   const Vec3 helper = std::abs(region.axis.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   const Vec3 u = region.axis.cross(helper).normalized();
   const Vec3 v = region.axis.cross(u);
@@ -114,7 +109,7 @@ Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uin
   std::mt19937_64 rng(mix(insert.seed ^ mix(event)));
   const std::uint64_t tries = 100 * wanted;
   for (std::uint64_t t = 0; t < tries && placed.size() < wanted; ++t) {
-    const double r = insert.radiusMin + unitInterval(rng) * (insert.radiusMax - insert.radiusMin);
+    const double r = insert.radiusMin + unitUniform(rng) * (insert.radiusMax - insert.radiusMin);
     const Vec3 x = drawCentre(insert.region, r, rng);
     if (hash.overlaps(x, r)) continue;
     const bool touchesWall = std::any_of(walls.begin(), walls.end(), [&](const Wall& w) {

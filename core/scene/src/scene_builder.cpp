@@ -17,6 +17,7 @@
 #include "grid_sampling.hpp"
 #include "number_format.hpp"
 #include "particle_csv.hpp"
+#include "unit_uniform.hpp"
 
 namespace granular {
 
@@ -27,13 +28,6 @@ std::string formatPoint(const Vec3& x) {
 }
 
 // 1. Grid generator -------------------------------------------------------------------------------
-
-/// Uniform double in [0, 1) from the top 53 bits of one draw. std::uniform_real_distribution is
-/// not used because the standard leaves its algorithm open: the same seed would give different
-/// particles with another standard library.
-double unitUniform(std::mt19937_64& rng) {
-  return double(rng() >> 11) * 0x1.0p-53;
-}
 
 void checkGrid(const GridGenerator& g, std::size_t index) {
   const std::string where = "particle generator " + std::to_string(index) + " (grid): ";

@@ -8,6 +8,13 @@
 /// radius; "floor", the annulus out to the cylinder. Orifice k (1-based) opens by taking away the
 /// gate and rings 1 … k − 1, so the orifices are the gate's diameter and the rings' outer
 /// diameters.
+///
+/// A silo with a conical hopper adds "hopper", a cone (axis +z) from the floor's height or above,
+/// where its radius is the largest orifice's or more, widening to the cylinder's radius at the
+/// transition; the cylinder then starts at the transition or below it. Its rings may be pieces
+/// of the hopper's cone below it (taking them away shortens the hopper to a wider outlet), the
+/// gate closing the lowest. The cylinder's levels start at the transition, and the hopper's
+/// wall is measured in bands of its own.
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -52,6 +59,13 @@ struct SiloLevel {
   bool inBed = false;            ///< a band or more below the surface and above the floor
 };
 
+/// One band of a conical hopper's wall: its normal pressure at rest.
+struct HopperBand {
+  double zLow = 0, zHigh = 0;  ///< [m]
+  double wallPressure = 0;     ///< p_n, normal to the hopper's wall, the mean [Pa]
+  double wallPressureStd = 0;  ///< its scatter over the samples [Pa]
+};
+
 /// One orifice's discharge.
 struct SiloDischarge {
   double orifice = 0;              ///< D₀ [m]
@@ -60,21 +74,36 @@ struct SiloDischarge {
   SteadyRate steady;               ///< the steady rate, 20-80 % of what it discharged
   /// p_h per level during the steady window (the switch from the filling pressures) [Pa].
   std::vector<double> wallPressure;
+  /// The hopper's p_n per band during the steady window, as wallPressure; empty without a
+  /// hopper [Pa].
+  std::vector<double> hopperPressure;
+  /// The flowing material's effective angle of internal friction [rad]: sin φ = (σ1 − σ3) /
+  /// (σ1 + σ3) of Eq. (1) in a representative sphere on the axis in the converging flow above
+  /// the orifice (centred D₀ above it, of radius D₀/3), the mean over the steady window; NaN
+  /// when it did not flow.
+  double internalFriction = 0;
   /// A steady rate was measured: ten samples or more in its window, and the flow over the
   /// last quarter of the discharge at half that rate or more (else it arched and stopped).
   bool flowed = false;
 };
 
 struct SiloStudyResult {
-  double gravity = 9.81;        ///< |g| [m/s²]
-  double radius = 0;            ///< the cylinder's [m]
-  double particleDiameter = 0;  ///< the mean of the particles' [m]
-  double surface = 0;           ///< the bed's surface: its height at its mean bulk density [m]
-  double bedMass = 0;           ///< [kg]
-  double bulkDensity = 0;       ///< mean over the levels in the bed [kg/m³]
-  double fillSeconds = 0;       ///< wall-clock time of the fill [s]
-  double wallLift = 0;          ///< how far the cylinder was lifted after the fill [m]
-  std::vector<SiloLevel> levels;
+  double gravity = 9.81;          ///< |g| [m/s²]
+  double radius = 0;              ///< the cylinder's [m]
+  double particleDiameter = 0;    ///< the mean of the particles' [m]
+  double surface = 0;             ///< the bed's surface: its height at its mean bulk density [m]
+  double bedMass = 0;             ///< [kg]
+  double bulkDensity = 0;         ///< mean over the levels in the bed [kg/m³]
+  double fillSeconds = 0;         ///< wall-clock time of the fill [s]
+  double wallLift = 0;            ///< how far the cylinder was lifted after the fill [m]
+  std::vector<SiloLevel> levels;  ///< the cylinder's, from the floor or the transition up
+  /// The conical hopper, when the silo has one: its half-angle from the vertical [rad], the
+  /// transition's height [m], its wall's bands (from the floor up); transition = the floor's
+  /// height and no bands without one.
+  bool hasHopper = false;
+  double hopperHalfAngle = 0;
+  double transition = 0;
+  std::vector<HopperBand> hopperBands;
   std::size_t restSamples = 0;
   JanssenFit janssen;      ///< λ fitted to σ_v over the levels in the bed, γ = ρ_b g
   JanssenFit janssenBoth;  ///< λ and γ both fitted
@@ -85,6 +114,8 @@ struct SiloStudyResult {
   double lateralRatio = 0;       ///< K, the mean over the levels in the bed [-]
   double mobilisedFriction = 0;  ///< μ_mob, the mean over the levels in the bed [-]
   std::vector<SiloDischarge> discharges;
+  /// The mean of the discharges' internalFriction where measured, NaN if nowhere [rad].
+  double internalFriction = 0;
   BeverlooFit beverloo;  ///< over the orifices that flowed
   bool beverlooFitted = false;
 };
