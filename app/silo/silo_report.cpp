@@ -176,14 +176,16 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
          "the slope of the discharged mass over 20–80 % of what it discharged. φ_flow: the "
          "effective "
          "angle of internal friction, sin φ = (σ1 − σ3)/(σ1 + σ3) of Eq. (1) in a sphere of "
-         "radius D₀/3 on the axis, D₀ above the orifice, the mean over the same window.\n\n"
-      << "| D₀ [m] | D₀/d | W [kg/s] | ± [kg/s] | window [s] | Beverloo W [kg/s] | φ_flow [°] |\n"
-      << "|---|---|---|---|---|---|---|\n";
+         "radius D₀/3 on the axis, D₀ above the orifice, the mean over the same window; ρ_flow: "
+         "the bulk density in that sphere.\n\n"
+      << "| D₀ [m] | D₀/d | W [kg/s] | ± [kg/s] | window [s] | Beverloo W [kg/s] | φ_flow [°] | "
+         "ρ_flow [kg/m³] |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
   const double g = r.gravity;
   for (const SiloDischarge& dis : r.discharges) {
     out << "| " << fmt("%.4f", dis.orifice) << " | " << fmt("%.2f", dis.orifice / d) << " | ";
     if (!dis.flowed) {
-      out << "did not flow steadily (it stopped, or too few samples) | | | | |\n";
+      out << "did not flow steadily (it stopped, or too few samples) | | | | | |\n";
       continue;
     }
     out << fmt("%.4f", dis.steady.rate) << " | " << fmt("%.4f", dis.steady.standardError) << " | "
@@ -192,21 +194,50 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
       out << fmt("%.4f",
                  beverlooRate(r.beverloo.c, r.beverloo.k, r.bulkDensity, g, dis.orifice, d));
     }
-    out << " | " << fmt("%.1f", dis.internalFriction * 180.0 / M_PI) << " |\n";
+    out << " | " << fmt("%.1f", dis.internalFriction * 180.0 / M_PI) << " | "
+        << fmt("%.1f", dis.flowDensity) << " |\n";
   }
   if (r.beverlooFitted) {
     const bool inRange = r.beverloo.c >= t.cMin && r.beverloo.c <= t.cMax;
     out << "\nW = C ρ_b √g (D₀ − k d)^(5/2) fitted over " << r.beverloo.points
         << " orifices: C = " << fmt("%.3f", r.beverloo.c) << ", k = " << fmt("%.3f", r.beverloo.k)
         << ", RMS " << fmt("%.1f %%", 100 * r.beverloo.rmsRelativeResidual) << ". ";
+    // The same rates with the flowing material's density in the law: C scales by ρ_b/ρ_flow.
+    double flowSum = 0.0;
+    int flows = 0;
+    for (const SiloDischarge& dis : r.discharges) {
+      if (dis.flowed && std::isfinite(dis.flowDensity)) {
+        flowSum += dis.flowDensity;
+        ++flows;
+      }
+    }
+    const double rhoFlow = flows > 0 ? flowSum / flows : std::nan("");
+    const double cFlow = r.beverloo.c * r.bulkDensity / rhoFlow;
     if (r.hasHopper) {
+      // Rose and Tanaka's φ_d is the angle of a flat floor's stagnant zone to the horizontal,
+      // which this run does not have: the factor is given over the range such zones take.
+      const auto factor = [&r](double phiD) {
+        return std::pow(std::tan(r.hopperHalfAngle) * std::tan(phiD), -0.35);
+      };
       out << "The literature's C, " << fmt("%.2f", t.cMin) << "–" << fmt("%.2f", t.cMax)
-          << ", is a flat floor's; a hopper's converging wall feeds its orifice faster (Rose and "
-             "Tanaka's factor (tan θ_h tan φ_d)^−0.35 where θ_h < 90° − φ_d), so its C is the "
-             "flat floor's times that factor: compare it with the flat silo's.\n\n";
+          << ", is a flat floor's; a hopper's converging wall feeds its orifice faster, by Rose "
+             "and Tanaka's factor F = (tan θ_h tan φ_d)^−0.35 (θ_h < 90° − φ_d), φ_d the angle "
+             "of a flat floor's stagnant zone to the horizontal: with θ_h = "
+          << fmt("%.1f", r.hopperHalfAngle * 180.0 / M_PI)
+          << "°, F = " << fmt("%.2f", factor(M_PI / 4)) << " for φ_d = 45° to "
+          << fmt("%.2f", factor(M_PI / 6)) << " for φ_d = 30°. The flat silo's C times F is "
+          << "what this C is to be compared with.\n\n";
     } else {
       out << "C in the literature's " << fmt("%.2f", t.cMin) << "–" << fmt("%.2f", t.cMax) << ": "
-          << met(inRange) << ".\n\n";
+          << met(inRange) << ".";
+      if (std::isfinite(cFlow)) {
+        out << " With the flowing material's density in place of ρ_b, ρ_flow = "
+            << fmt("%.1f", rhoFlow) << " kg/m³ over the orifices ("
+            << fmt("%.0f %%", 100.0 * (1.0 - rhoFlow / r.bulkDensity))
+            << " below the bed's at rest): C = " << fmt("%.3f", cFlow) << ", "
+            << (cFlow >= t.cMin && cFlow <= t.cMax ? "in" : "outside") << " that range.";
+      }
+      out << "\n\n";
     }
   } else {
     out << "\nBeverloo's law not fitted: fewer than two orifices flowed steadily.\n\n";

@@ -244,6 +244,16 @@ void Simulation::exchangeParticles(
   if (state_->config.step.automatic) checkStep(*state_);
 }
 
+bool Simulation::anyParticleWhere(const std::function<bool(const Vec3& position)>& test) const {
+  const Particles& p = state_->particles;
+  bool found = false;
+  for (std::size_t i = 0; i < p.size() && !found; ++i) {
+    found = owns(i) && test(p.position[i]);
+  }
+  if (const Communicator* r = ranks()) found = r->anyOverRanks(found);
+  return found;
+}
+
 ParticleTally Simulation::particleTally() const {
   const SimulationState& s = *state_;
   const Particles& p = s.particles;

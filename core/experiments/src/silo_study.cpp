@@ -147,23 +147,35 @@ void runSampled(Simulation& sim, StageSpec stage, double duration, double interv
   runStage(sim, stage, output, observer);
 }
 
-/// The angle of internal friction of Eq. (1)'s stress over the sphere at `centre` of `radius`
-/// (internalFrictionAngleFromStresses), from the particles' own stresses (particleStresses:
-/// Σ_i V_i σ^i over its members is Eq. (1)'s sum) [rad]; NaN where the sphere holds no
-/// compressed particle or is in tension.
-double frictionAngleIn(const Simulation& sim, const std::vector<Mat3>& stresses, const Vec3& centre,
-                       double radius) {
+/// The flowing material above an orifice, in one sample of a sphere.
+struct FlowZone {
+  double angle = 0;    ///< the angle of internal friction of its stress, NaN if none [rad]
+  double density = 0;  ///< the mass of the particles whose centres it holds over its volume
+};
+
+/// Eq. (1)'s stress over the sphere at `centre` of `radius`, from the particles' own stresses
+/// (particleStresses: Σ_i V_i σ^i over its members is Eq. (1)'s sum), as an angle of internal
+/// friction (internalFrictionAngleFromStresses; NaN where the sphere holds no compressed
+/// particle or is in tension), and its bulk density.
+FlowZone flowZoneIn(const Simulation& sim, const std::vector<Mat3>& stresses, const Vec3& centre,
+                    double radius) {
   const Particles& p = sim.particles();
   Mat3 sum = Mat3::Zero();
+  double mass = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if ((p.position[i] - centre).squaredNorm() > radius * radius) continue;
     const double r = p.radius[i];
     sum += (4.0 / 3.0 * std::numbers::pi * r * r * r) * stresses[i];
+    mass += p.mass[i];
   }
+  FlowZone zone;
+  zone.density = mass / (4.0 / 3.0 * std::numbers::pi * radius * radius * radius);
   // Compression is negative in Eq. (1): σ1, the most compressive, is the smallest value.
   const Vec3 principal = principalStresses(sum).values;
-  if (!(principal.x() < 0.0) || principal.z() > 0.0) return std::nan("");
-  return internalFrictionAngleFromStresses(-principal.x(), -principal.z());
+  zone.angle = !(principal.x() < 0.0) || principal.z() > 0.0
+                   ? std::nan("")
+                   : internalFrictionAngleFromStresses(-principal.x(), -principal.z());
+  return zone;
 }
 
 /// The mean of per-sample values (one vector of `size` per sample) over the discharge's steady
@@ -369,7 +381,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     std::optional<WallBandAverage> hopperPerSample;
     if (result.hasHopper) hopperPerSample.emplace(hopperEdges, hopperAreas());
     std::vector<std::vector<double>> pressures, hopperPressures;
-    std::vector<double> frictionAngles;
+    std::vector<FlowZone> flowZones;
     const double start = run.time();
     runSampled(
         run, stage, options.dischargeTime, options.sampleInterval,
@@ -378,9 +390,9 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
           discharge.discharged.push_back(s.particleTally().removedMass);
           const LevelSample sample = sampleBed(s, walls.cylinder, walls.hopper, edges);
           pressures.push_back(perSample.addSample(sample.wall).pressure);
-          frictionAngles.push_back(frictionAngleIn(
-              s, particleStresses(s), Vec3(0.0, 0.0, walls.outletZ[k] + discharge.orifice),
-              discharge.orifice / 3.0));
+          flowZones.push_back(flowZoneIn(s, particleStresses(s),
+                                         Vec3(0.0, 0.0, walls.outletZ[k] + discharge.orifice),
+                                         discharge.orifice / 3.0));
           if (hopperPerSample) {
             hopperPressures.push_back(hopperPerSample->addSample(sample.hopper).pressure);
           }
@@ -400,17 +412,20 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
       discharge.flowed = false;
     }
     discharge.wallPressure = steadyWindowMean(discharge, pressures, levels);
-    discharge.internalFriction = std::nan("");
-    double angleSum = 0.0;
-    std::size_t angles = 0;
-    for (std::size_t s = 0; s < frictionAngles.size() && discharge.flowed; ++s) {
+    discharge.internalFriction = discharge.flowDensity = std::nan("");
+    double angleSum = 0.0, densitySum = 0.0;
+    std::size_t angles = 0, densities = 0;
+    for (std::size_t s = 0; s < flowZones.size() && discharge.flowed; ++s) {
       const double t = discharge.time[s];
       if (t < discharge.steady.t0 || t > discharge.steady.t1) continue;
-      if (!std::isfinite(frictionAngles[s])) continue;
-      angleSum += frictionAngles[s];
+      densitySum += flowZones[s].density;
+      ++densities;
+      if (!std::isfinite(flowZones[s].angle)) continue;
+      angleSum += flowZones[s].angle;
       ++angles;
     }
     if (angles > 0) discharge.internalFriction = angleSum / double(angles);
+    if (densities > 0) discharge.flowDensity = densitySum / double(densities);
     if (result.hasHopper) {
       discharge.hopperPressure =
           steadyWindowMean(discharge, hopperPressures, hopperEdges.size() - 1);

@@ -159,17 +159,30 @@ void StageExchange::apply(Simulation& sim, double t) {
   const std::uint64_t event = std::uint64_t(std::floor((t + tolerance_) / stage_.exchangeInterval));
   next_ = event + 1;
   const double density = sim.config().material.density;
-  bool outletsDone = stage_.outlets.empty();
+  // An exchange with nothing to insert and nothing in an outlet is skipped: a split run would
+  // gather the whole state for it.
+  std::vector<std::uint64_t> wanted;
   for (const InsertSpec& insert : stage_.inserts) {
     const double due = std::floor(insert.rate * t + 1e-9);
     const std::uint64_t total = std::min<std::uint64_t>(insert.count, std::uint64_t(due));
     const std::uint64_t in = sim.insertedBy(insert.source);
-    const std::uint64_t wanted = total > in ? total - in : 0;
+    wanted.push_back(total > in ? total - in : 0);
+  }
+  const bool inserts = std::any_of(wanted.begin(), wanted.end(), [](auto n) { return n > 0; });
+  const bool removes = !stage_.outlets.empty() && sim.anyParticleWhere([&](const Vec3& x) {
+    return std::any_of(stage_.outlets.begin(), stage_.outlets.end(),
+                       [&](const OutletSpec& o) { return o.region.holds(x); });
+  });
+  if (!inserts && !removes) return;
+  bool outletsDone = !removes;
+  for (std::size_t k = 0; k < stage_.inserts.size(); ++k) {
+    const InsertSpec& insert = stage_.inserts[k];
+    if (wanted[k] == 0 && outletsDone) continue;
     const std::vector<Wall>& walls = sim.walls();
     sim.exchangeParticles([&](const Particles& whole) {
       ParticleExchange x;
       if (!outletsDone) x.remove = particlesInOutlets(stage_.outlets, whole);
-      x.insert = placeInserted(insert, wanted, event, whole, walls, density);
+      x.insert = placeInserted(insert, wanted[k], event, whole, walls, density);
       x.source = insert.source;
       return x;
     });

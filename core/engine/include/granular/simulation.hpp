@@ -338,6 +338,10 @@ class Simulation {
   /// finite motion; smaller than SimulationConfig::smallestRadius). Particle indices after it
   /// are those of the survivors in their order, then the inserted ones.
   void exchangeParticles(const std::function<ParticleExchange(const Particles& whole)>& decide);
+  /// Whether any particle's position passes `test` (collective in a split run: each rank tests
+  /// the particles it owns). Lets a caller skip an exchange with nothing to do, which in a
+  /// split run would gather the whole state for nothing.
+  bool anyParticleWhere(const std::function<bool(const Vec3& position)>& test) const;
   /// The particles held, inserted and removed, and their masses (collective in a split run).
   ParticleTally particleTally() const;
   /// Particles inserted by `source` since the start (ParticleExchange::source) [-].

@@ -82,6 +82,9 @@ struct SiloDischarge {
   /// the orifice (centred D₀ above it, of radius D₀/3), the mean over the steady window; NaN
   /// when it did not flow.
   double internalFriction = 0;
+  /// The bulk density in the same sphere over the same window, NaN when it did not flow: the
+  /// flowing material's, looser than the bed's at rest [kg/m³].
+  double flowDensity = 0;
   /// A steady rate was measured: ten samples or more in its window, and the flow over the
   /// last quarter of the discharge at half that rate or more (else it arched and stopped).
   bool flowed = false;
