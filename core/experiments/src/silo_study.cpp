@@ -358,6 +358,8 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
     result.mobilisedFriction = muSum / double(inBed);
   }
 
+  if (options.onSettled) options.onSettled(sim, result);
+
   // 3. Each orifice from the same settled bed.
   const Simulation settled = sim.wholeState();
   for (std::size_t k = 0; k < walls.orifices.size(); ++k) {

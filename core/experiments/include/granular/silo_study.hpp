@@ -29,6 +29,8 @@
 
 namespace granular {
 
+struct SiloStudyResult;
+
 /// How the study measures.
 struct SiloStudyOptions {
   double restWindow = 0.2;       ///< time the settled bed is sampled over [s]
@@ -43,6 +45,9 @@ struct SiloStudyOptions {
   double wallLiftSpeed = 0.02;  ///< the cylinder's speed while lifted [m/s]
   /// Called every few hundred steps with what runs ("fill", "rest", "orifice 2 of 4").
   std::function<void(const Simulation&, const std::string& phase)> onProgress;
+  /// Called once with the settled bed at the end of the rest window, before the discharges,
+  /// and the result so far (the geometry, the levels and the fits at rest): for figures of it.
+  std::function<void(const Simulation& settled, const SiloStudyResult& atRest)> onSettled;
 };
 
 /// One height of the bed at rest: the wall's band and the section's slice at the same heights.
