@@ -16,9 +16,10 @@ inline constexpr int kSectionFigureWidth = 1000;
 
 /// The particles behind the cut y = 0 (particlesBehindCut) seen from −y, nearly orthographically,
 /// coloured by Σ_j |F_ij| over all their contacts, walls included [N], from 0 to the drawn
-/// particles' 99th percentile (a few jammed particles at the floor would otherwise leave the
-/// chains one colour); the cylinder's back wall tinted, its sides and the floor drawn, axes in
-/// metres true to the cut face. Opens its own OpenGL context (render::RenderError without one).
+/// particles' 99th percentile (the few most loaded particles would otherwise leave the chains
+/// in the dark half of the scale); the cylinder's back wall tinted, its sides and the floor
+/// drawn, axes in metres true to the cut face. Opens its own OpenGL context
+/// (render::RenderError without one).
 render::Image cutawayFigure(const Simulation& settled, const SiloSectionGeometry& geometry,
                             int width = kSectionFigureWidth);
 
