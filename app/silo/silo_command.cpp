@@ -6,12 +6,14 @@
 
 #include "csv_output.hpp"
 #include "granular/error.hpp"
+#include "granular/render/gl_context.hpp"
 #include "granular/scene.hpp"
 #include "granular/silo_study.hpp"
 #include "progress.hpp"
 #include "run_header.hpp"
 #include "silo_figures.hpp"
 #include "silo_report.hpp"
+#include "silo_section_figures.hpp"
 
 namespace granular::app {
 
@@ -43,6 +45,22 @@ int runSilo(const SiloOptions& options) {
     }
     reporter.update(sim, shown);
   };
+  // The settled bed's sections are drawn when the study reaches it: it goes on to discharge.
+  std::vector<std::filesystem::path> sections;
+  study.onSettled = [&](const Simulation& settled, const SiloStudyResult& atRest) {
+    double top = atRest.transition;
+    const Particles& p = settled.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      top = std::max(top, p.position[i].z() + p.radius[i]);
+    }
+    try {
+      sections =
+          writeSiloSectionFigures(settled, {atRest.radius, atRest.floor, top}, options.outDir);
+    } catch (const render::RenderError& e) {
+      std::cerr << "warning: the settled bed's section figures were not drawn: " << e.what()
+                << "\n";
+    }
+  };
   std::cout << "silo study: " << options.scene.string() << ", " << scene.stages[0].inserts[0].count
             << " particles poured in, then " << options.dischargeTime
             << " s through each orifice\n";
@@ -52,9 +70,12 @@ int runSilo(const SiloOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   writeSiloTables(result, options.outDir);
-  const std::vector<std::filesystem::path> figures = drawSiloFigures(result, options.outDir);
+  std::vector<std::filesystem::path> figures = drawSiloFigures(result, options.outDir);
+  figures.insert(figures.end(), sections.begin(), sections.end());
+  std::vector<std::string> names;
+  for (const std::filesystem::path& f : figures) names.push_back(f.filename().string());
   writeTextFile(options.outDir / "report.md",
-                siloReport(result, options.scene.filename().string(), seconds));
+                siloReport(result, options.scene.filename().string(), seconds, names));
   std::cout << "Janssen: λ = μ_w K = " << result.janssen.lambda << " fitted (RMS "
             << 100 * result.janssen.rmsRelativeResidual << " %), " << result.lambdaMeasured
             << " measured\n";

@@ -1,6 +1,7 @@
 /// siloReport and writeSiloTables (silo_report.hpp).
 #include "silo_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -98,7 +99,7 @@ void hopperSection(std::ostringstream& out, const SiloStudyResult& r) {
 }  // namespace
 
 std::string siloReport(const SiloStudyResult& r, const std::string& scene, double seconds,
-                       const SiloTargets& t) {
+                       const std::vector<std::string>& figures, const SiloTargets& t) {
   std::ostringstream out;
   const double d = r.particleDiameter;
   out << "# Silo study\n\n"
@@ -254,9 +255,22 @@ std::string siloReport(const SiloStudyResult& r, const std::string& scene, doubl
   }
   out << "\n";
   if (r.hasHopper) hopperSection(out, r);
-  out << "Figures: `wall_pressure.png`, `vertical_stress.png`, `discharge.png`. Tables: "
-         "`levels.csv`, `discharge.csv`"
-      << (r.hasHopper ? ", `hopper.csv`" : "") << ".\n";
+  const auto has = [&figures](const std::string& name) {
+    return std::find(figures.begin(), figures.end(), name) != figures.end();
+  };
+  if (has("cutaway.png") || has("midsection_stress.png")) {
+    out << "## The settled bed in section\n\n"
+        << "`cutaway.png`: the particles behind the plane y = 0 seen from −y, coloured by "
+           "Σ_j |F_ij|, the force chains on the cut face. `midsection_stress.png`: −σ33 "
+           "coarse-grained on the midsection y = 0 (compression positive), with the trajectories "
+           "of σ1, the major principal stress.\n\n";
+  }
+  out << "Figures:";
+  for (std::size_t k = 0; k < figures.size(); ++k) {
+    out << (k ? ", `" : " `") << figures[k] << '`';
+  }
+  out << ". Tables: `levels.csv`, `discharge.csv`" << (r.hasHopper ? ", `hopper.csv`" : "")
+      << ".\n";
   return out.str();
 }
 

@@ -3,6 +3,7 @@
 /// and Beverloo's, and each target met or not.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "granular/silo_study.hpp"
 
@@ -15,9 +16,10 @@ struct SiloTargets {
   double cMin = 0.55, cMax = 0.65;  ///< Beverloo's C, the literature's range [-]
 };
 
-/// report.md's text for `result` (run from `scene`, in `seconds` of wall clock).
+/// report.md's text for `result` (run from `scene`, in `seconds` of wall clock), listing the
+/// `figures` written beside it (file names).
 std::string siloReport(const SiloStudyResult& result, const std::string& scene, double seconds,
-                       const SiloTargets& targets = {});
+                       const std::vector<std::string>& figures, const SiloTargets& targets = {});
 /// levels.csv (one row a level at rest) and discharge.csv (one row a sample of each orifice).
 void writeSiloTables(const SiloStudyResult& result, const std::filesystem::path& dir);
 

@@ -203,6 +203,7 @@ SiloStudyResult runSiloStudy(const Scene& scene, const SiloStudyOptions& options
   Simulation sim = buildSimulation(scene);
   const SiloWalls walls = siloWalls(sim);
   result.radius = walls.radius;
+  result.floor = walls.floorZ;
   auto progress = [&](const std::string& phase) {
     return [&options, phase](const Simulation& s) {
       if (options.onProgress) options.onProgress(s, phase);

@@ -98,6 +98,7 @@ struct SiloDischarge {
 struct SiloStudyResult {
   double gravity = 9.81;          ///< |g| [m/s²]
   double radius = 0;              ///< the cylinder's [m]
+  double floor = 0;               ///< the gate's height, the lowest outlet's [m]
   double particleDiameter = 0;    ///< the mean of the particles' [m]
   double surface = 0;             ///< the bed's surface: its height at its mean bulk density [m]
   double bedMass = 0;             ///< [kg]
