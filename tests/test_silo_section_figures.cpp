@@ -138,3 +138,18 @@ TEST(SiloSectionFigures, TheCutawayMatchesItsGolden) {
   EXPECT_TRUE(granular::testing::matchesGolden(app::cutawayFigure(sim, geometryOf(sim), 400),
                                                "silo_cutaway"));
 }
+
+// A hopper's outline: the cylinder's radius down to the transition, then the cone's, linear in
+// the height, down to its outlet at the floor; a flat floor keeps the cylinder's everywhere.
+TEST(SiloSectionFigures, AHoppersWallNarrowsLinearlyFromTheTransitionToItsOutlet) {
+  app::SiloSectionGeometry g{0.06, 0.0, 0.3};
+  EXPECT_FALSE(g.hasHopper());
+  EXPECT_DOUBLE_EQ(g.wallRadius(0.0), 0.06);
+  g.transition = 0.08;
+  g.outletRadius = 0.02;
+  ASSERT_TRUE(g.hasHopper());
+  EXPECT_DOUBLE_EQ(g.wallRadius(0.0), 0.02);
+  EXPECT_DOUBLE_EQ(g.wallRadius(0.04), 0.04);
+  EXPECT_DOUBLE_EQ(g.wallRadius(0.08), 0.06);
+  EXPECT_DOUBLE_EQ(g.wallRadius(0.2), 0.06);
+}

@@ -2,6 +2,7 @@
 #include "silo_command.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <iostream>
 
 #include "csv_output.hpp"
@@ -48,14 +49,23 @@ int runSilo(const SiloOptions& options) {
   // The settled bed's sections are drawn when the study reaches it: it goes on to discharge.
   std::vector<std::filesystem::path> sections;
   study.onSettled = [&](const Simulation& settled, const SiloStudyResult& atRest) {
+    // The midsection ends a diameter above the bed's mean surface: above it the loose top
+    // layer carries a few grains' weight and σ1's direction wanders (the cut-away frames every
+    // particle whatever this top).
     double top = atRest.transition;
     const Particles& p = settled.particles();
     for (std::size_t i = 0; i < p.size(); ++i) {
       top = std::max(top, p.position[i].z() + p.radius[i]);
     }
+    top = std::min(top, atRest.surface + atRest.particleDiameter);
     try {
-      sections =
-          writeSiloSectionFigures(settled, {atRest.radius, atRest.floor, top}, options.outDir);
+      SiloSectionGeometry geometry{atRest.radius, atRest.floor, top};
+      if (atRest.hasHopper) {
+        geometry.transition = atRest.transition;
+        geometry.outletRadius =
+            atRest.radius - (atRest.transition - atRest.floor) * std::tan(atRest.hopperHalfAngle);
+      }
+      sections = writeSiloSectionFigures(settled, geometry, options.outDir);
     } catch (const render::RenderError& e) {
       std::cerr << "warning: the settled bed's section figures were not drawn: " << e.what()
                 << "\n";

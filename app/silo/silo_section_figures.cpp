@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "granular/render/axes.hpp"
 #include "granular/render/colorbar.hpp"
@@ -43,20 +44,37 @@ double percentile(std::vector<double> values, double q) {
   return values[std::size_t(k)];
 }
 
-/// The cylinder's far half from the floor to `zTop`, as the translucent back wall seen between
-/// the particles [m].
-std::vector<render::Triangle> backWall(double radius, double floorZ, double zTop) {
+/// The silo wall's far half from the floor to `zTop` (the hopper's cone, then the cylinder), as
+/// the translucent back wall seen between the particles [m].
+std::vector<render::Triangle> backWall(const SiloSectionGeometry& g, double zTop) {
   constexpr int kFacets = 48;
+  std::vector<double> heights{g.floorZ};
+  if (g.hasHopper() && g.transition < zTop) heights.push_back(g.transition);
+  heights.push_back(zTop);
   std::vector<render::Triangle> triangles;
-  for (int s = 0; s < kFacets; ++s) {
-    const double a = std::numbers::pi * s / kFacets, b = std::numbers::pi * (s + 1) / kFacets;
-    const Vec3 lowA(radius * std::cos(a), radius * std::sin(a), floorZ);
-    const Vec3 lowB(radius * std::cos(b), radius * std::sin(b), floorZ);
-    const Vec3 up(0.0, 0.0, zTop - floorZ);
-    triangles.push_back({lowA, lowB, lowB + up});
-    triangles.push_back({lowA, lowB + up, lowA + up});
+  for (std::size_t ring = 0; ring + 1 < heights.size(); ++ring) {
+    const double z0 = heights[ring], z1 = heights[ring + 1];
+    const double r0 = g.wallRadius(z0), r1 = g.wallRadius(z1);
+    for (int s = 0; s < kFacets; ++s) {
+      const double a = std::numbers::pi * s / kFacets, b = std::numbers::pi * (s + 1) / kFacets;
+      const auto at = [](double r, double angle, double z) {
+        return Vec3(r * std::cos(angle), r * std::sin(angle), z);
+      };
+      triangles.push_back({at(r0, a, z0), at(r0, b, z0), at(r1, b, z1)});
+      triangles.push_back({at(r0, a, z0), at(r1, b, z1), at(r1, a, z1)});
+    }
   }
   return triangles;
+}
+
+/// The silo wall's outline in the plane y = 0, one side (+1 or −1): from the top down the
+/// cylinder, then the hopper's cone to the outlet, as (x, z) points [m].
+std::vector<std::pair<double, double>> wallOutline(const SiloSectionGeometry& g, double zTop,
+                                                   double side) {
+  std::vector<std::pair<double, double>> points{{side * g.radius, zTop}};
+  if (g.hasHopper()) points.emplace_back(side * g.radius, g.transition);
+  points.emplace_back(side * g.wallRadius(g.floorZ), g.floorZ);
+  return points;
 }
 
 }  // namespace
@@ -103,7 +121,7 @@ render::Image cutawayFigure(const Simulation& sim, const SiloSectionGeometry& g,
 
   // Nearly orthographic: the eye fifty frames away along −y sees the far wall 1 % smaller than
   // the cut face, and the cut face y = 0, square to the view, maps onto the axes exactly.
-  const std::vector<render::Triangle> wall = backWall(g.radius, g.floorZ, a.yMax);
+  const std::vector<render::Triangle> wall = backWall(g, a.yMax);
   render::ParticleScene scene;
   scene.centres = centres;
   scene.radii = radii;
@@ -125,14 +143,20 @@ render::Image cutawayFigure(const Simulation& sim, const SiloSectionGeometry& g,
                 render::Point{area.x, area.y});
   }
 
-  // The cylinder's sides and the floor, over the particles that press against them.
+  // The silo's sides and the floor, over the particles that press against them.
   render::Stroke walls;
   walls.color = {40, 40, 40, 255};
   walls.width = style.px(2.0);
   canvas.pushClip(area);
-  canvas.line(axes.toPixel(-g.radius, a.yMax), axes.toPixel(-g.radius, g.floorZ), walls);
-  canvas.line(axes.toPixel(g.radius, a.yMax), axes.toPixel(g.radius, g.floorZ), walls);
-  canvas.line(axes.toPixel(-g.radius, g.floorZ), axes.toPixel(g.radius, g.floorZ), walls);
+  for (const double side : {-1.0, 1.0}) {
+    const auto outline = wallOutline(g, a.yMax, side);
+    for (std::size_t k = 0; k + 1 < outline.size(); ++k) {
+      canvas.line(axes.toPixel(outline[k].first, outline[k].second),
+                  axes.toPixel(outline[k + 1].first, outline[k + 1].second), walls);
+    }
+  }
+  const double floorHalf = g.wallRadius(g.floorZ);
+  canvas.line(axes.toPixel(-floorHalf, g.floorZ), axes.toPixel(floorHalf, g.floorZ), walls);
   canvas.popClip();
   axes.drawFrame(canvas);
   const double x = area.right() + axes.lineWidth() + barGap;
@@ -175,6 +199,17 @@ render::Image midsectionStressFigure(const Simulation& sim, const SiloSectionGeo
       overlay.color =
           lineWidth > 2 ? render::Rgba{30, 30, 30, 255} : render::Rgba{255, 255, 255, 255};
       overlay.width = lineWidth;
+      spec.polylines.push_back(std::move(overlay));
+    }
+  }
+  // A hopper's cone, where the plane leaves the material.
+  if (g.hasHopper()) {
+    for (const double side : {-1.0, 1.0}) {
+      render::PolylineOverlay overlay;
+      for (const auto& [x, z] : wallOutline(g, g.transition, side))
+        overlay.points.push_back({x, z});
+      overlay.color = render::Rgba{230, 230, 230, 255};
+      overlay.width = 2.0;
       spec.polylines.push_back(std::move(overlay));
     }
   }

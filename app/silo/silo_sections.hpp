@@ -10,11 +10,23 @@
 
 namespace granular::app {
 
-/// The silo: a cylinder about the z axis through the origin, standing on a flat floor.
+/// The silo: a cylinder about the z axis through the origin, standing on a flat floor or on a
+/// conical hopper.
 struct SiloSectionGeometry {
   double radius = 0;  ///< the cylinder's [m]
-  double floorZ = 0;  ///< the floor's height [m]
+  double floorZ = 0;  ///< the floor's height, or the hopper's outlet's [m]
   double top = 0;     ///< the bed's top, where the midsection ends (e.g. its highest particle) [m]
+  /// A conical hopper's top, where it meets the cylinder, and its radius at floorZ [m]; a
+  /// transition at or below the floor: a flat floor.
+  double transition = 0;
+  double outletRadius = 0;
+
+  bool hasHopper() const { return transition > floorZ; }
+  /// The wall's radius at height z [m]: the cone's below the transition.
+  double wallRadius(double z) const {
+    if (!hasHopper() || z >= transition) return radius;
+    return outletRadius + (radius - outletRadius) * (z - floorZ) / (transition - floorZ);
+  }
 };
 
 /// The particles whose centres lie behind the cut, y ≥ 0: the half of the bed a viewer on −y
