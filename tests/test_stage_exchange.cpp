@@ -45,7 +45,7 @@ TEST(StageExchange, InsertedParticlesLieInTheirRegionApartFromEachOtherAndTheWal
   floor.name = "floor";
   floor.point = Vec3(0, 0, 0.05);
   floor.normal = Vec3::UnitZ();
-  const Particles placed = placeInserted(insert, 30, 1, present, {floor}, 500.0);
+  const Particles placed = placeInserted(insert, 30, 0, 1, present, {floor}, 500.0);
   ASSERT_EQ(placed.size(), 30u);
   for (std::size_t i = 0; i < placed.size(); ++i) {
     const Vec3& x = placed.position[i];
@@ -62,19 +62,38 @@ TEST(StageExchange, InsertedParticlesLieInTheirRegionApartFromEachOtherAndTheWal
     EXPECT_DOUBLE_EQ(placed.mass[i], 500.0 * 4.0 / 3.0 * M_PI * r * r * r);
   }
   // The same seed and exchange give the same particles; another exchange others.
-  const Particles again = placeInserted(insert, 30, 1, present, {floor}, 500.0);
+  const Particles again = placeInserted(insert, 30, 0, 1, present, {floor}, 500.0);
   EXPECT_EQ(again.position, placed.position);
   EXPECT_EQ(again.radius, placed.radius);
-  const Particles next = placeInserted(insert, 30, 2, present, {floor}, 500.0);
+  const Particles next = placeInserted(insert, 30, 0, 2, present, {floor}, 500.0);
   EXPECT_NE(next.position, placed.position);
 }
 
 TEST(StageExchange, AFullRegionPlacesOnlyWhatFits) {
   InsertSpec insert = boxInsert();
   insert.region.max = Vec3(0.1, 0.1, 0.1);  // room for about (0.1 / 0.05)^3 · 0.6 spheres
-  const Particles placed = placeInserted(insert, 200, 1, {}, {}, 500.0);
+  const Particles placed = placeInserted(insert, 200, 0, 1, {}, {}, 500.0);
   EXPECT_LT(placed.size(), 20u);
   EXPECT_GT(placed.size(), 0u);
+}
+
+// A particle's radius is its own, drawn from the seed and its number: the same whether it found
+// room at once, after others failed, or at a later exchange. A radius drawn per try would leave
+// the crowded region with the small ones (the large find less room) and the radii biased.
+TEST(StageExchange, AParticlesRadiusDoesNotDependOnWhereOrWhenItFoundRoom) {
+  InsertSpec insert = boxInsert();
+  const Particles free = placeInserted(insert, 60, 0, 1, {}, {}, 500.0);
+  ASSERT_EQ(free.size(), 60u);
+  insert.region.max = Vec3(0.1, 0.1, 0.1);  // crowded: few fit
+  const Particles crowded = placeInserted(insert, 60, 0, 1, {}, {}, 500.0);
+  ASSERT_GT(crowded.size(), 0u);
+  ASSERT_LT(crowded.size(), 60u);
+  for (std::size_t k = 0; k < crowded.size(); ++k) EXPECT_EQ(crowded.radius[k], free.radius[k]);
+  // The rest come later with the radii they were due: particle n keeps its own.
+  const Particles later = placeInserted(insert, 5, crowded.size(), 2, {}, {}, 500.0);
+  for (std::size_t k = 0; k < later.size(); ++k) {
+    EXPECT_EQ(later.radius[k], free.radius[crowded.size() + k]);
+  }
 }
 
 TEST(StageExchange, ParticlesInOutletsAreThoseWhoseCentresAreInside) {

@@ -90,8 +90,9 @@ class CellHash {
 
 }  // namespace
 
-Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uint64_t event,
-                        const Particles& whole, const std::vector<Wall>& walls, double density) {
+Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uint64_t first,
+                        std::uint64_t event, const Particles& whole, const std::vector<Wall>& walls,
+                        double density) {
   Particles placed;
   if (wanted == 0) return placed;
   double rMax = insert.radiusMax;
@@ -107,17 +108,24 @@ Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uin
     }
   }
   std::mt19937_64 rng(mix(insert.seed ^ mix(event)));
-  const std::uint64_t tries = 100 * wanted;
-  for (std::uint64_t t = 0; t < tries && placed.size() < wanted; ++t) {
-    const double r = insert.radiusMin + unitUniform(rng) * (insert.radiusMax - insert.radiusMin);
-    const Vec3 x = drawCentre(insert.region, r, rng);
-    if (hash.overlaps(x, r)) continue;
-    const bool touchesWall = std::any_of(walls.begin(), walls.end(), [&](const Wall& w) {
-      return !w.removed && surfaceDistance(w, x) < r;
-    });
-    if (touchesWall) continue;
-    hash.add(x, r);
-    placed.add(x, r, density, insert.velocity);
+  // The radii's own stream, a different function of the seed than the centres'.
+  const std::uint64_t radiusSeed = mix(insert.seed ^ 0x9e3779b97f4a7c15ULL);
+  for (std::uint64_t k = 0; k < wanted; ++k) {
+    const double u = double(mix(radiusSeed ^ mix(first + k)) >> 11) * 0x1.0p-53;
+    const double r = insert.radiusMin + u * (insert.radiusMax - insert.radiusMin);
+    bool found = false;
+    for (int t = 0; t < 100 && !found; ++t) {
+      const Vec3 x = drawCentre(insert.region, r, rng);
+      if (hash.overlaps(x, r)) continue;
+      const bool touchesWall = std::any_of(walls.begin(), walls.end(), [&](const Wall& w) {
+        return !w.removed && surfaceDistance(w, x) < r;
+      });
+      if (touchesWall) continue;
+      hash.add(x, r);
+      placed.add(x, r, density, insert.velocity);
+      found = true;
+    }
+    if (!found) break;
   }
   return placed;
 }
@@ -182,7 +190,8 @@ void StageExchange::apply(Simulation& sim, double t) {
     sim.exchangeParticles([&](const Particles& whole) {
       ParticleExchange x;
       if (!outletsDone) x.remove = particlesInOutlets(stage_.outlets, whole);
-      x.insert = placeInserted(insert, wanted[k], event, whole, walls, density);
+      x.insert = placeInserted(insert, wanted[k], sim.insertedBy(insert.source), event, whole,
+                               walls, density);
       x.source = insert.source;
       return x;
     });

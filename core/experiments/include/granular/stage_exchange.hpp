@@ -9,14 +9,19 @@
 
 namespace granular {
 
-/// The `wanted` particles an insert places at its exchange number `event` (1, 2, ...): radii
-/// uniform in [radiusMin, radiusMax], centres uniform where the sphere lies in the region and
-/// touches none of `whole`'s particles, none placed before it and no wall that is not removed;
-/// masses from `density` [kg/m³]; the insert's velocity; no spin. Fewer when the region has no
-/// room (100 tries a particle). The same particles for the same arguments on every platform
-/// (std::mt19937_64 from the seed and the event, its raw draws made doubles by hand).
-Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uint64_t event,
-                        const Particles& whole, const std::vector<Wall>& walls, double density);
+/// The `wanted` particles an insert places at its exchange number `event` (1, 2, ...), the
+/// insert's particles `first`, first + 1, ... (the number it placed before): particle n's radius
+/// is drawn from the seed and n alone, uniform in [radiusMin, radiusMax], so that it is the same
+/// whether the particle finds room at once or at a later exchange (a radius drawn at each try
+/// would favour the small ones, which find room more easily); centres uniform where the sphere
+/// lies in the region and touches none of `whole`'s particles, none placed before it and no wall
+/// that is not removed; masses from `density` [kg/m³]; the insert's velocity; no spin. A
+/// particle that finds no room in 100 tries ends the placement: it and those after it come at a
+/// later exchange. The same particles for the same arguments on every platform (SplitMix64 and
+/// std::mt19937_64 from the seed, the particle and the event, raw draws made doubles by hand).
+Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uint64_t first,
+                        std::uint64_t event, const Particles& whole, const std::vector<Wall>& walls,
+                        double density);
 
 /// The particles of `whole` whose centres are in an outlet's region, ascending.
 std::vector<std::size_t> particlesInOutlets(const std::vector<OutletSpec>& outlets,
