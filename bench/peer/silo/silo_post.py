@@ -282,6 +282,8 @@ def process_run(rundir, csv_dir, wall_seconds=None, cpu_seconds=None):
     procs = {l[3] for ls in loops.values() for l in ls}
     s["timing"] = {
         "procs": sorted(procs), "fill_settle_loop_s": fill_s, "fill_settle_steps": fill_n,
+        "fill_settle_particle_steps": fill_ps,
+        "fill_settle_particle_steps_per_s": fill_ps / fill_s if fill_s > 0 else float("nan"),
         "rest_loop_s": rest_s, "discharge_loop_s": dis_s, "discharge_steps": dis_n,
         "discharge_particle_steps": dis_ps, "total_loop_s": all_s, "total_steps": all_n,
         "total_particle_steps": all_ps,
