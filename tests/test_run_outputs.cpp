@@ -77,7 +77,9 @@ constexpr double kDamping = 60.0;   // [1/s], the default γn
 
 /// Three spheres at rest on the floor of a box, two of them stacked, pressing into their
 /// contacts under gravity; two radii.
-fs::path writeScene(const fs::path& dir, double friction) {
+/// `stages` replaces the one stage "fall" of 0.02 s.
+fs::path writeScene(const fs::path& dir, double friction,
+                    const std::string& stages = "[[stages]]\nname = \"fall\"\nmax_time = 0.02\n") {
   fs::create_directories(dir);
   // Binary fractions: the stacked spheres touch exactly (0.1875 - 0.0625 = 2 × 0.0625).
   std::ofstream(dir / "spheres.csv") << "x,y,z,r\n"
@@ -88,18 +90,17 @@ fs::path writeScene(const fs::path& dir, double friction) {
       << "[material]\nfriction = " << friction << "\n[simulation]\ntime_step = " << kStep
       << "\n[box]\nmin = [0, 0, 0]\nmax = [1, 1, 2]\n"
          "[[particles]]\ntype = \"csv\"\nfile = \"spheres.csv\"\n"
-         "[[stages]]\nname = \"fall\"\nmax_time = 0.02\n"
-         "[output]\nsnapshots = ["
-      << kSnapshot << "]\n";
+      << stages << "[output]\nsnapshots = [" << kSnapshot << "]\n";
   return dir / "scene.toml";
 }
 
 /// Runs the real binary on the scene of `friction` in a fresh folder; the output folder.
-fs::path run(const char* name, double friction) {
+fs::path run(const char* name, double friction, const std::string& stages = "") {
   const fs::path dir = fs::temp_directory_path() / (std::string("granular_run_outputs_") + name +
                                                     "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
-  const fs::path scene = writeScene(dir, friction);
+  const fs::path scene =
+      stages.empty() ? writeScene(dir, friction) : writeScene(dir, friction, stages);
   testing::GranularProcess run({"run", scene.string(), "--out", (dir / "out").string(), "-q"},
                                dir / "stderr.txt");
   EXPECT_TRUE(run.started());
@@ -143,6 +144,36 @@ TEST(RunOutputs, SnapshotsAreNamedByTheirStepAndHoldTheirExactTime) {
   const Table series = readTable(out / "timeseries.csv");
   EXPECT_TRUE(series.has("contacts_particle_overlapping"));
   EXPECT_TRUE(series.has("contacts_wall_overlapping"));
+  fs::remove_all(out.parent_path());
+}
+
+/// The snapshot files of a stage, by their names' prefix.
+std::vector<std::string> snapshotsOf(const fs::path& out, const std::string& stage) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("snapshot_" + stage + "_", 0) == 0) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(RunOutputs, AStageThatListsItsOwnSnapshotsWritesThoseInPlaceOfTheOutputs) {
+  // "fall" lists none, "hold" lists two, "rest" lists nothing of its own: the output's one.
+  const fs::path out =
+      run("stage_snapshots", 0.0,
+          "[[stages]]\nname = \"fall\"\nmax_time = 0.02\nsnapshots = []\n"
+          "[[stages]]\nname = \"hold\"\nmax_time = 0.02\nsnapshots = [0.015, 0.0045]\n"
+          "[[stages]]\nname = \"rest\"\nmax_time = 0.02\n");
+  EXPECT_TRUE(snapshotsOf(out, "fall").empty());
+  // Stage steps 30 and 100 after the 134 of "fall" (0.0045 / 1.5e-4 = 30, 0.015 / 1.5e-4 = 100).
+  const std::uint64_t fall = std::uint64_t(std::ceil(0.02 / kStep - 1e-9));
+  const std::uint64_t at[] = {fall + std::uint64_t(std::ceil(0.0045 / kStep - 1e-9)),
+                              fall + std::uint64_t(std::ceil(0.015 / kStep - 1e-9))};
+  EXPECT_EQ(snapshotsOf(out, "hold"),
+            (std::vector<std::string>{"snapshot_hold_" + std::to_string(at[0]) + ".csv",
+                                      "snapshot_hold_" + std::to_string(at[1]) + ".csv"}));
+  EXPECT_EQ(snapshotsOf(out, "rest").size(), 1u);
   fs::remove_all(out.parent_path());
 }
 

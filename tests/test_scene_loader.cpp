@@ -124,6 +124,7 @@ sustain_time = 0.1
 name = "press"
 max_time = 1.0
 reset_clock = true
+snapshots = [0.3, 0.1]
 [stages.wall_velocity]
 top = [0, 0, -0.01]
 "x+" = [-0.001, 0, 0]
@@ -193,7 +194,9 @@ snapshots = [0.5, 0.25]
   }
 
   EXPECT_EQ(s.output.interval, 0.005);
-  EXPECT_EQ(s.output.snapshotTimes, (std::vector<double>{0.25, 0.5}));  // sorted
+  EXPECT_EQ(s.output.snapshotTimes, (std::vector<double>{0.25, 0.5}));    // sorted
+  EXPECT_FALSE(s.stages[0].snapshotTimes.has_value());                    // the output's
+  EXPECT_EQ(s.stages[1].snapshotTimes, (std::vector<double>{0.1, 0.3}));  // its own, sorted
 }
 
 TEST_F(SceneLoader, DefaultsAreTheStructDefaults) {
@@ -222,6 +225,7 @@ TEST_F(SceneLoader, DefaultsAreTheStructDefaults) {
   EXPECT_EQ(s.stages[0].end.sustainTime, 0.0);
   EXPECT_EQ(s.output.interval, OutputSpec().interval);
   EXPECT_TRUE(s.output.snapshotTimes.empty());
+  EXPECT_FALSE(s.stages[0].snapshotTimes.has_value());
 }
 
 TEST_F(SceneLoader, DefaultImpactSpeedIsTwoParticlesHeadOnAtTheirLargestSpeed) {
@@ -506,6 +510,9 @@ TEST_F(SceneLoader, MalformedScenesNameTheKey) {
       {"negative snapshot",
        kMinimal + "[output]\nsnapshots = [0.1, -0.2]\n",
        {"output.snapshots[1] = -0.2", "must be >= 0"}},
+      {"negative stage snapshot",
+       kMinimal + "snapshots = [-0.1]\n",
+       {"stages[0].snapshots[0] = -0.1", "must be >= 0"}},
       {"zero interval",
        kMinimal + "[output]\ninterval = 0\n",
        {"output.interval = 0", "must be > 0"}},

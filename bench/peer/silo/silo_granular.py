@@ -22,9 +22,8 @@ The walls are the STL files of silo_mesh.py (cylinder, floor and gate of the ori
              below delete_below_z every sample_interval, for the LIGGGHTS run's discharge time
              (whole deletion intervals of delete_every)
 
-The snapshot times apply to every stage (docs/scenes.md), so the fill (while its first
-particles fall) and the discharge (its first 0.1 s) write them too; silo_granular_post.py reads
-the rest stage's. The fixed step is `dt`, the integrator velocity Verlet, the skin `skin`.
+The rest stage lists its own snapshot times (docs/scenes.md), so the fill and the discharge
+write none, as LIGGGHTS dumps the rest alone. The fixed step is `dt`, the integrator velocity Verlet, the skin `skin`.
 """
 import argparse
 import json
@@ -142,6 +141,7 @@ def scene(p, r):
         "[[stages]]",
         "name = \"rest\"",
         f"max_time = {num(r['rest_time'])}",
+        f"snapshots = {vec(r['rest_snapshots'])}",
         "",
         "[[stages]]",
         "name = \"discharge\"",
@@ -156,7 +156,6 @@ def scene(p, r):
         "",
         "[output]",
         f"interval = {num(p['sample_interval'])}",
-        f"snapshots = {vec(r['rest_snapshots'])}",
         "",
     ]
     return "\n".join(lines)

@@ -350,7 +350,8 @@ def compare(gran, ligg, title, out=sys.stdout):
     pr("## Speed: particle-steps per second (mean ± sd over the seeds)")
     pr()
     pr("Whole run: Σ steps × particles over the summed loop time (granular: the stages' "
-       "wall-clock, its 30 snapshots included; LIGGGHTS: its Loop times). Fill + settle: the "
+       "wall-clock, its rest snapshots included; LIGGGHTS: its Loop times, its rest dumps "
+       "included). Fill + settle: the "
        "same over the fill-and-settle phase alone (no snapshots of the full bed in either).")
     pr()
     pr("| threads / ranks | granular whole run | LIGGGHTS whole run | ratio | granular fill+settle "

@@ -57,14 +57,16 @@ void applyWallMotions(Simulation& sim, const StageSpec& stage) {
   }
 }
 
-/// Fires onSample every output interval and onSnapshot once per snapshot time.
+/// Fires onSample every output interval and onSnapshot once per snapshot time (the stage's own
+/// times where it lists them, else the output's).
 class StageClock {
  public:
-  StageClock(const OutputSpec& output, const StageObserver& observer, double timeStep)
+  StageClock(const OutputSpec& output, const StageSpec& stage, const StageObserver& observer,
+             double timeStep)
       : output_(output),
         observer_(observer),
         tolerance_(1e-6 * timeStep),
-        snapshots_(output.snapshotTimes) {
+        snapshots_(stage.snapshotTimes.value_or(output.snapshotTimes)) {
     std::sort(snapshots_.begin(), snapshots_.end());
     snapshots_.erase(std::unique(snapshots_.begin(), snapshots_.end()), snapshots_.end());
   }
@@ -149,7 +151,7 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
   const double resumedAt = resume ? resume->time.value_or(0.0) : 0.0;
   // The stage's t = 0 on the simulation's clock.
   const double origin = resume && resume->origin ? *resume->origin : sim.time() - resumedAt;
-  StageClock clock(output, observer, 1e-3 * output.interval);
+  StageClock clock(output, stage, observer, 1e-3 * output.interval);
   StageExchange exchange(stage, 1e-3 * output.interval);
   if (resume) {
     clock.resumeAt(resumedAt);
@@ -236,7 +238,7 @@ StageResult runStage(Simulation& sim, const StageSpec& stage, const OutputSpec& 
 
   const double dt = sim.config().timeStep;
   const double tolerance = 1e-6 * dt;
-  StageClock clock(output, observer, dt);
+  StageClock clock(output, stage, observer, dt);
   StageExchange exchange(stage, tolerance);
   if (resume) {
     clock.resumeAt(double(resume->steps) * dt);

@@ -153,7 +153,7 @@ void hashRegion(Canonical& c, const Region& r) {
 
 std::uint64_t stageHash(const StageSpec& s) {
   const auto& [name, end, wallMotions, removeWalls, inserts, outlets, exchangeInterval,
-               placeTopWallOnSurface, resetClock] = s;
+               placeTopWallOnSurface, resetClock, snapshotTimes] = s;
   const auto& [maxTime, kineticEnergyBelow, sustainTime] = end;
   Canonical c;
   c << name << maxTime << kineticEnergyBelow << sustainTime << placeTopWallOnSurface << resetClock
@@ -161,6 +161,12 @@ std::uint64_t stageHash(const StageSpec& s) {
   for (const WallMotion& motion : wallMotions) {
     const auto& [wall, velocity] = motion;
     c << wall << velocity;
+  }
+  // The output a resumed run continues, as [output]'s; only a stage that lists its own adds
+  // them, so the others keep their fingerprints.
+  if (snapshotTimes) {
+    c << std::string("snapshots") << std::uint64_t(snapshotTimes->size());
+    for (double t : *snapshotTimes) c << t;
   }
   // Only a stage that exchanges particles or opens a gate adds them: the others keep their
   // fingerprints.

@@ -48,6 +48,7 @@
 /// stages[i].wall_velocity.<wall>      | m/s   | 3 finite numbers             | at rest
 /// stages[i].remove_walls              | -     | names of [[walls]], once     | []
 /// stages[i].exchange_interval         | s     | (0, max_time]                | 0.01
+/// stages[i].snapshots                 | s     | numbers >= 0                 | output.snapshots
 /// stages[i].inserts[k].name           | -     | non-empty                    | "insert<n>"
 /// stages[i].inserts[k].shape          | -     | "box" | "cylinder"           | "box"
 /// stages[i].inserts[k].min, max (box) | m     | in the box, max > min        | required

@@ -53,6 +53,7 @@ inline constexpr std::string_view kStage[] = {"name",
                                               "wall_velocity",
                                               "remove_walls",
                                               "exchange_interval",
+                                              "snapshots",
                                               "inserts",
                                               "outlets"};
 /// An insert's keys; a region is a box (min, max) or a cylinder (base, axis, length, radius).

@@ -107,6 +107,10 @@ std::vector<StageSpec> readStages(const TomlTableReader& root, const std::string
     }
     if (s.placeTopWallOnSurface) topPlacedBy = s.name;
     s.resetClock = r.boolean("reset_clock", false);
+    if (r.has("snapshots")) {
+      s.snapshotTimes = r.numbers("snapshots", Range::atLeast(0));
+      std::sort(s.snapshotTimes->begin(), s.snapshotTimes->end());
+    }
     s.wallMotions = readWallMotions(r, file, box, walls, box.walls[5] || !topPlacedBy.empty());
     readStageExchange(r, file, box, walls, sources, removed, s);
     stages.push_back(std::move(s));

@@ -130,6 +130,9 @@ struct StageSpec {
   bool placeTopWallOnSurface = false;
   /// Starts the stage's own clock at t = 0 (the paper's stage 2).
   bool resetClock = false;
+  /// The stage's own snapshot times (stage clock) [s], in place of OutputSpec::snapshotTimes:
+  /// a silo's rest alone, not its fill and discharge.
+  std::optional<std::vector<double>> snapshotTimes;
 };
 
 /// What a run check that fails does (RunChecks, run_checks.hpp).
