@@ -45,6 +45,10 @@ void writeVtkXml(vtkXMLWriter& writer, const std::filesystem::path& file) {
   const unsigned long onError = writer.AddObserver(vtkCommand::ErrorEvent, observer);
   const unsigned long onWarning = writer.AddObserver(vtkCommand::WarningEvent, observer);
   writer.SetWriteToOutputString(true);
+  // LZ4 and raw appended data, as ParaView writes its own: zlib and base64 made VTK's writing
+  // half of a snapshot's time (a silo's 8000 particles and 24000 contacts: 0.12 of 0.23 s).
+  writer.SetCompressorTypeToLZ4();
+  writer.SetEncodeAppendedData(false);
   const int written = writer.Write();
   writer.RemoveObserver(onError);
   writer.RemoveObserver(onWarning);
