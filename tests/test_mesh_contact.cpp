@@ -4,6 +4,7 @@
 /// corner; one inside a triangulated cylinder; and the defects a mesh is refused for, by triangle.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -12,6 +13,7 @@
 #include "granular/triangle_mesh.hpp"
 #include "mesh_contact.hpp"
 #include "mesh_fixtures.hpp"
+#include "triangle_grid.hpp"
 
 using namespace granular;
 using granular::testing::flatGrid;
@@ -182,6 +184,59 @@ TEST(MeshContact, InsideATriangulatedCylinderASphereHasOneContactAtEveryAzimuth)
     ASSERT_EQ(c.size(), 1u) << "azimuth " << a;
     EXPECT_LT(c[0].normal.dot(-out), 1.0 + 1e-12);
     EXPECT_GT(c[0].normal.dot(-out), std::cos(std::numbers::pi / kFacets) - 1e-12);
+  }
+}
+
+TEST(MeshContact, ANeighbourListsTrianglesOfAPointAreEveryTriangleWithinTheLimit) {
+  // A closed box of 12 triangles and a cylinder of 36 facets: points all around them, limits
+  // from well inside the grid's reach to it. The search passes over triangles whose plane is too
+  // far and looks only in the point's cell; it must find what a look at every triangle finds.
+  constexpr double kReach = 0.05;
+  TriangleMesh box;
+  const Vec3 lo(0, 0, 0), hi(0.3, 0.2, 0.1);
+  auto corner = [&](int k) {
+    return Vec3(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+  };
+  addQuad(box, corner(0), corner(2), corner(3), corner(1));
+  addQuad(box, corner(4), corner(5), corner(7), corner(6));
+  addQuad(box, corner(0), corner(1), corner(5), corner(4));
+  addQuad(box, corner(2), corner(6), corner(7), corner(3));
+  addQuad(box, corner(0), corner(4), corner(6), corner(2));
+  addQuad(box, corner(1), corner(3), corner(7), corner(5));
+  TriangleMesh cylinder;
+  for (int k = 0; k < 36; ++k) {
+    auto rim = [&](int j, double z) {
+      const double a = 2.0 * std::numbers::pi * j / 36;
+      return Vec3(0.1 * std::cos(a), 0.1 * std::sin(a), z);
+    };
+    addQuad(cylinder, rim(k, 0), rim(k + 1, 0), rim(k + 1, 0.2), rim(k, 0.2));
+  }
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const TriangleMesh& raw : {box, cylinder}) {
+    const TriangleMesh m = welded(raw);
+    const MeshTopology topology = soundTopology(m);
+    const TriangleGrid grid = binTriangles(m, kReach, 0.04);
+    int near = 0, far = 0;
+    std::vector<std::uint32_t> found;
+    for (int k = 0; k < 20000; ++k) {
+      const Vec3 x(-0.15 + 0.6 * unit(random), -0.15 + 0.5 * unit(random),
+                   -0.08 + 0.36 * unit(random));
+      const double limit = kReach * (0.2 + 0.8 * unit(random));
+      std::vector<std::uint32_t> every;
+      for (std::uint32_t t = 0; t < m.triangle.size(); ++t) {
+        const auto& v = m.triangle[t];
+        const Vec3 c = closestOnTriangle(m.vertex[v[0]], m.vertex[v[1]], m.vertex[v[2]], x).point;
+        if ((x - c).norm() < limit) every.push_back(t);
+      }
+      found.clear();
+      trianglesWithin(m, topology, grid, x, limit, found);
+      std::sort(found.begin(), found.end());
+      ASSERT_EQ(found, every) << "at (" << x.transpose() << "), limit " << limit;
+      (every.empty() ? far : near) += 1;
+    }
+    EXPECT_GT(near, 1000);  // both answers are tried often
+    EXPECT_GT(far, 1000);
   }
 }
 

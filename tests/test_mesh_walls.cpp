@@ -70,6 +70,27 @@ TriangleMesh facetedCylinder(int facets, double radius, double height) {
 
 }  // namespace
 
+TEST(MeshWalls, WhetherAMeshIsNearerThanADistanceIsWhatItsDistanceSays) {
+  // A flat grid of 2·8² triangles, posed tilted: points over its faces, edges and corners and
+  // beyond its rim, at distances below and above r.
+  Wall w = meshWall(flatGrid(8, 0.4));
+  w.mesh = poseMesh(w.mesh->body, Vec3(0.1, -0.2, 0.3), Vec3(1, 2, 3).normalized(),
+                    Vec3(2, -1, 0).normalized());
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int nearer = 0, farther = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 x = Vec3(0.1, -0.2, 0.3) + Vec3(-0.6 + 1.2 * unit(random), -0.6 + 1.2 * unit(random),
+                                               -0.6 + 1.2 * unit(random));
+    const double r = 0.3 * unit(random);
+    const bool expected = surfaceDistance(w, x) < r;
+    ASSERT_EQ(surfaceNearer(w, x, r), expected) << "at (" << x.transpose() << "), r " << r;
+    (expected ? nearer : farther) += 1;
+  }
+  EXPECT_GT(nearer, 1000);  // both answers are tried often
+  EXPECT_GT(farther, 1000);
+}
+
 TEST(MeshWalls, ASphereAtRestOnAFlatMeshFeelsItsWeightWhereverItSitsOnTheCut) {
   // At its static overlap m g/(c R), on the vertices, the edges and inside the triangles of a
   // square cut into 2, 8 and 200 triangles: one contact, the force m g up, to 10⁻¹², in the

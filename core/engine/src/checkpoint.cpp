@@ -413,6 +413,11 @@ void fields(Io& io, SimulationState& s) {
   io(first), io(n.second), io(history), io(n.wallParticles), io(n.wallHistory);
   if constexpr (std::is_same_v<Io, Reader>) {
     if (!rowsFromFirst(n, first, p.size())) io.corrupted("the pair list is not sorted");
+    // Derived, not in the file: binned and searched again from the walls and positions read.
+    n.meshGrid.clear();
+    n.meshGridPose.clear();
+    n.meshTriangleStart.clear();
+    n.meshTriangles.clear();
     std::vector<std::uint32_t>().swap(first);
     buildPairBlocks(n, p.size());
     // Records of every term's slots: the material (read later) is not known yet; the first

@@ -278,6 +278,9 @@ void assemble(SimulationState& s, const std::vector<std::uint32_t>& stay,
   list.wallParticles = std::move(wallParticles);
   list.wallHistory = std::move(wallHistory);
   list.wallNormal = std::move(wallNormal);
+  // Not carried: the candidates take the grid's triangles until the list's next build.
+  list.meshTriangleStart.clear();
+  list.meshTriangles.clear();
   list.plan.valid = false;
   s.owned.assign(n, 1);
 }

@@ -18,6 +18,22 @@ namespace granular {
 /// A contact takes an entry whose last contact's normal is within this of its own [cos 60°].
 inline constexpr double kSameContactCos = 0.5;
 
+/// The triangles mesh wall w's candidate whose entries start at `entry` may touch: those the
+/// list's build found near it, or where the list holds none (NeighbourList::meshTriangles), the
+/// grid's cell's. The contacts are the same from either: each holds every triangle within reach.
+inline std::span<const std::uint32_t> meshCandidatesOf(const NeighbourList& list,
+                                                       const TriangleGrid& grid, std::size_t w,
+                                                       std::size_t entry, const Vec3& x) {
+  if (w < list.meshTriangleStart.size()) {
+    const std::vector<std::uint32_t>& start = list.meshTriangleStart[w];
+    if (start.size() == list.wallParticles[w].size() / kMeshContacts + 1) {
+      const std::size_t c = entry / kMeshContacts;
+      return {list.meshTriangles[w].data() + start[c], start[c + 1] - start[c]};
+    }
+  }
+  return grid.near(x);
+}
+
 /// Appends the contacts of mesh wall w's candidate whose kMeshContacts entries start at `entry`
 /// (touching, or with kReach within `beyond`) to the chunk's m entries: slot (its entry), wall,
 /// normal out of the particle and overlap set, and `first` 1 where the entry starts a new
@@ -32,7 +48,8 @@ std::size_t pickMeshContacts(const Particles& p, const NeighbourList& list, cons
   const WallMesh& mesh = *wall.mesh;
   double reach = p.radius[i];
   if constexpr (kReach) reach += beyond;
-  meshContacts(mesh.world, mesh.topology, grid.near(p.position[i]), p.position[i], reach, contacts);
+  meshContacts(mesh.world, mesh.topology, meshCandidatesOf(list, grid, w, entry, p.position[i]),
+               p.position[i], reach, contacts);
   if (contacts.size() > kMeshContacts) contacts.resize(kMeshContacts);
   // Each contact, nearest first, takes the free entry whose last normal is nearest its own
   // (within 60°); the others then take the free entries that held no contact, then any.

@@ -205,6 +205,123 @@ std::vector<std::uint32_t> firstOfPairs(const NeighbourList& list) {
 
 // ---- Rebuild ------------------------------------------------------------------------------
 
+namespace {
+
+/// The pair search of a first build, twice over the same search, count then fill, so that the
+/// list is allocated once at its exact size: with no list before it, buffers growing by
+/// doubling would be the transient peak of the run's memory (at 10⁶ particles they were).
+void searchCountingFirst(const CellGrid& grid, const Particles& p, double margin, int teams,
+                         std::vector<std::uint32_t>& rowStart, std::vector<std::uint32_t>& second) {
+  const std::size_t n = p.size();
+#pragma omp parallel num_threads(teams)
+  {
+    std::vector<std::uint32_t> found;
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      rowStart[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, margin, i, found));
+    }
+#pragma omp single
+    {
+      for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
+      second.resize(rowStart[n]);
+    }
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t count = partnersOf(grid, p, margin, i, found);
+      std::copy_n(found.begin(), count, second.begin() + rowStart[i]);
+    }
+  }
+}
+
+/// The pair search of a later build, once: each thread searches a run of consecutive particles
+/// into its part of the list, the first thread's straight into `second`, reserved at the last
+/// list's size (`lastPairs`) + 1/8, the others' into buffers reserved at their share of that and
+/// copied behind it. A list changes little between two builds: an array grows by doubling (a
+/// transient the peak memory would show) only if it outgrows that. A search counted first would
+/// search twice, which two threads do in the time one takes once.
+void searchOnce(const CellGrid& grid, const Particles& p, double margin, std::size_t lastPairs,
+                int teams, std::vector<std::uint32_t>& rowStart,
+                std::vector<std::uint32_t>& second) {
+  const std::size_t n = p.size();
+  std::vector<std::vector<std::uint32_t>> parts(std::size_t(std::max(teams, 1)));
+  std::vector<std::size_t> partBegin(parts.size() + 1, n);
+#pragma omp parallel num_threads(teams)
+  {
+    const std::size_t t = std::size_t(omp_get_thread_num());
+    const std::size_t used = std::size_t(omp_get_num_threads());
+    const std::size_t begin = n * t / used, end = n * (t + 1) / used;
+    partBegin[t] = begin;
+    std::vector<std::uint32_t>& out = t == 0 ? second : parts[t];
+    const std::size_t share =
+        t == 0 ? lastPairs : lastPairs * (end - begin) / std::max<std::size_t>(n, 1);
+    out.reserve(share + share / 8 + 16);
+    std::vector<std::uint32_t> found;
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t count = partnersOf(grid, p, margin, i, found);
+      out.insert(out.end(), found.begin(), found.begin() + std::ptrdiff_t(count));
+      rowStart[i + 1] = static_cast<std::uint32_t>(count);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
+  second.resize(rowStart[n]);
+  for (std::size_t t = 1; t < parts.size(); ++t) {
+    if (partBegin[t] >= n) continue;
+    std::copy(parts[t].begin(), parts[t].end(), second.begin() + rowStart[partBegin[t]]);
+  }
+}
+
+/// Mesh wall w's grid for a build of reach rMax + margin: the last build's where the mesh has
+/// kept its pose and the reach is the same, else binned anew (a silo's fixed walls binned at
+/// every build took 8 % of its run).
+void keepOrBinMeshGrid(NeighbourList& list, const Wall& wall, std::size_t w, double rMax,
+                       double margin) {
+  const TriangleGrid& kept = list.meshGrid[w];
+  if (list.meshGridPose[w] == wall.mesh && !kept.empty() && kept.reach == rMax + margin &&
+      kept.cellAsked == 2.0 * rMax + margin) {
+    return;
+  }
+  list.meshGrid[w] = listGrid(wall.mesh->world, rMax, margin);
+  list.meshGridPose[w] = wall.mesh;
+}
+
+/// Mesh wall w's candidates: the particles within their radius plus `margin` of a triangle,
+/// each listed kMeshContacts times, with those triangles (NeighbourList::meshTriangles). Runs
+/// of consecutive particles are searched by whichever thread is free (the particles near a wall
+/// are not spread evenly over the indices) and joined in order.
+void listMeshCandidates(const WallMesh& mesh, const TriangleGrid& grid, const Particles& p,
+                        double margin, int teams, std::vector<std::uint32_t>& candidates,
+                        std::vector<std::uint32_t>& triangleStart,
+                        std::vector<std::uint32_t>& triangles) {
+  struct Part {
+    std::vector<std::uint32_t> particle, count, triangle;
+  };
+  constexpr std::size_t kRun = 256;
+  const std::size_t n = p.size();
+  std::vector<Part> parts((n + kRun - 1) / kRun);
+#pragma omp parallel for schedule(dynamic) num_threads(teams)
+  for (std::size_t r = 0; r < parts.size(); ++r) {
+    Part& part = parts[r];
+    for (std::size_t i = r * kRun; i < std::min(n, (r + 1) * kRun); ++i) {
+      const std::size_t before = part.triangle.size();
+      trianglesWithin(mesh.world, mesh.topology, grid, p.position[i], p.radius[i] + margin,
+                      part.triangle);
+      if (part.triangle.size() == before) continue;
+      part.particle.push_back(static_cast<std::uint32_t>(i));
+      part.count.push_back(static_cast<std::uint32_t>(part.triangle.size() - before));
+    }
+  }
+  triangleStart.assign(1, 0);
+  for (const Part& part : parts) {
+    for (std::size_t c = 0; c < part.particle.size(); ++c) {
+      candidates.insert(candidates.end(), kMeshContacts, part.particle[c]);
+      triangleStart.push_back(triangleStart.back() + part.count[c]);
+    }
+    triangles.insert(triangles.end(), part.triangle.begin(), part.triangle.end());
+  }
+}
+
+}  // namespace
+
 void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::vector<Wall>& walls,
                           bool keepHistory, double beyond, int threads) {
   const std::size_t n = p.size();
@@ -212,65 +329,40 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   // The margin over touch: the skin, and the contact model's reach beyond touch.
   const double margin = list.skin + beyond;
 
-  // Two passes over the same search, count then fill, so the list is allocated once at its
-  // exact size (no per-thread buffers growing by doubling: at 10⁶ particles those transients
-  // were the peak of the run's memory). Each particle's partners land in its row, fixed by the
-  // prefix sums, sorted by j, so the list is the same for any thread count.
+  // Each particle's partners land in its row, sorted by j: the list is the same for any thread
+  // count.
   std::vector<std::uint32_t> rowStart(n + 1, 0), second;
+  const int teams = threads > 0 ? threads : omp_get_max_threads();
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + margin);
-    const int teams = threads > 0 ? threads : omp_get_max_threads();
-    if (teams == 1 && !list.second.empty()) {
-      // One search, appending into the old list's size + 1/8: the array grows by doubling (a
-      // transient the peak memory would show) only if the list outgrows that between two
-      // rebuilds. The first build counts first, as several threads do.
-      second.reserve(list.second.size() + list.second.size() / 8 + 16);
-      std::vector<std::uint32_t> found;
-      for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t count = partnersOf(grid, p, margin, i, found);
-        second.insert(second.end(), found.begin(), found.begin() + std::ptrdiff_t(count));
-        rowStart[i + 1] = static_cast<std::uint32_t>(second.size());
-      }
+    if (!list.second.empty()) {
+      searchOnce(grid, p, margin, list.second.size(), teams, rowStart, second);
     } else {
-#pragma omp parallel num_threads(teams)
-      {
-        std::vector<std::uint32_t> found;
-#pragma omp for schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
-          rowStart[i + 1] = static_cast<std::uint32_t>(partnersOf(grid, p, margin, i, found));
-        }
-#pragma omp single
-        {
-          for (std::size_t i = 0; i < n; ++i) rowStart[i + 1] += rowStart[i];
-          second.resize(rowStart[n]);
-        }
-#pragma omp for schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
-          const std::size_t count = partnersOf(grid, p, margin, i, found);
-          std::copy_n(found.begin(), count, second.begin() + rowStart[i]);
-        }
-      }
+      searchCountingFirst(grid, p, margin, teams, rowStart, second);
     }
   }
 
   // Wall candidates: particles whose surface is within the margin of the wall's surface (or
   // beyond a plane); a mesh's through its binned triangles, each listed kMeshContacts times.
   std::vector<std::vector<std::uint32_t>> wallParticles(walls.size());
-  list.meshGrid.assign(walls.size(), TriangleGrid{});
+  list.meshGrid.resize(walls.size());
+  list.meshGridPose.resize(walls.size());
+  list.meshTriangleStart.assign(walls.size(), {});
+  list.meshTriangles.assign(walls.size(), {});
   for (std::size_t w = 0; w < walls.size(); ++w) {
-    if (walls[w].removed) continue;  // a gate opened touches nothing
-    if (walls[w].shape == WallShape::Mesh) {
-      const WallMesh& mesh = *walls[w].mesh;
-      list.meshGrid[w] = listGrid(mesh.world, rMax, margin);
-      for (std::size_t i = 0; i < n; ++i) {
-        const double distance =
-            nearestOnMesh(mesh.world, mesh.topology, list.meshGrid[w], p.position[i]).distance;
-        if (distance < p.radius[i] + margin) {
-          wallParticles[w].insert(wallParticles[w].end(), kMeshContacts, std::uint32_t(i));
-        }
-      }
+    if (walls[w].removed) {  // a gate opened touches nothing
+      list.meshGrid[w] = TriangleGrid{};
+      list.meshGridPose[w] = nullptr;
       continue;
     }
+    if (walls[w].shape == WallShape::Mesh) {
+      keepOrBinMeshGrid(list, walls[w], w, rMax, margin);
+      listMeshCandidates(*walls[w].mesh, list.meshGrid[w], p, margin, teams, wallParticles[w],
+                         list.meshTriangleStart[w], list.meshTriangles[w]);
+      continue;
+    }
+    list.meshGrid[w] = TriangleGrid{};
+    list.meshGridPose[w] = nullptr;
     for (std::size_t i = 0; i < n; ++i) {
       const double distance = walls[w].shell()
                                   ? touchOf(walls[w], p.position[i]).distance
@@ -283,7 +375,7 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
   pairBlocks(rowStart, n, blockParticle, blockPair, blockWord);
   if (keepHistory) {
-    list.springs = carryPairSprings(list, rowStart, second, blockPair, blockWord);
+    list.springs = carryPairSprings(list, rowStart, second, blockPair, blockWord, teams);
     list.wallHistory.resize(walls.size());
     std::vector<std::vector<ContactHistory>> wallHistory(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) {

@@ -104,12 +104,13 @@ void layOutPairSprings(NeighbourList& list, const std::vector<ContactHistory>& p
 void relayOutPairSprings(NeighbourList& list, unsigned optional);
 
 /// The springs of the pairs of `old` that are also in the new list (rowStart, second, sorted,
-/// with its blocks blockPair and blockWord), laid out for the new list. Frees old's block arrays
-/// as it passes them, so that the old and the new springs are not held whole at once.
+/// with its blocks blockPair and blockWord), laid out for the new list, block by block on up to
+/// `threads` threads (the same for any count). Frees old's block arrays as it passes them, so
+/// that the old and the new springs are not held whole at once.
 PairSprings carryPairSprings(NeighbourList& old, const std::vector<std::uint32_t>& rowStart,
                              const std::vector<std::uint32_t>& second,
                              const std::vector<std::uint32_t>& blockPair,
-                             const std::vector<std::uint32_t>& blockWord);
+                             const std::vector<std::uint32_t>& blockWord, int threads = 1);
 
 /// One block's springs rewritten in place by blockPairs, as records of S doubles: the stored
 /// record of the pair holding the `read`-th one is at source + (read - sourceOffset) S; the

@@ -79,6 +79,9 @@ void renumberList(NeighbourList& list, const std::vector<std::uint32_t>& newInde
     keepEntries(candidates, survives);
     for (std::uint32_t& i : candidates) i = newIndex[i];
   }
+  // The candidates' triangles go with the rebuild that follows.
+  list.meshTriangleStart.clear();
+  list.meshTriangles.clear();
   list.valid = false;
   list.plan.valid = false;
 }

@@ -120,6 +120,8 @@ void Simulation::setMaterial(const Material& material) {
     list.wallParticles.clear();
     list.wallHistory.clear();
     list.wallNormal.clear();
+    list.meshTriangleStart.clear();
+    list.meshTriangles.clear();
     rebuildList(s);
   } else if (reachBeyondTouch(material) != reachBefore) {
     rebuildList(s);  // the pairs within the new reach

@@ -73,6 +73,15 @@ struct NeighbourList {
   /// Per wall: a mesh's triangles binned by where they are at the build, each reaching the
   /// largest radius plus the skin and the model's reach (derived: rebuilt when missing).
   std::vector<TriangleGrid> meshGrid;
+  /// Per wall: the pose of the mesh its grid was binned from (null where unknown). A fixed mesh
+  /// keeps its pose, and its grid is kept from one build to the next while the reach is the same.
+  std::vector<std::shared_ptr<const WallMesh>> meshGridPose;
+  /// Per mesh wall: each candidate's triangles within its radius plus the skin and the model's
+  /// reach at the build, every triangle it can touch before the next (candidate c, the entries
+  /// [c, c+1)·kMeshContacts, holds [meshTriangleStart[w][c], meshTriangleStart[w][c + 1]) of
+  /// meshTriangles[w]). Derived: empty where a list was not built here (read from a checkpoint,
+  /// laid out by a split run, renumbered by an exchange), and then the grid's cell serves.
+  std::vector<std::vector<std::uint32_t>> meshTriangleStart, meshTriangles;
   /// Particle positions at the last build, rounded to single precision [m]: half the memory of
   /// doubles, the one array a list has per particle. The staleness test adds the rounding's
   /// bound, referenceRounding, to the largest move it measures from them, so that it never

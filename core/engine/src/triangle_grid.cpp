@@ -24,6 +24,7 @@ std::span<const std::uint32_t> TriangleGrid::near(const Vec3& x) const {
 TriangleGrid binTriangles(const TriangleMesh& mesh, double reach, double cell) {
   TriangleGrid grid;
   grid.reach = reach;
+  grid.cellAsked = cell;
   if (mesh.triangle.empty()) return grid;
   Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
   for (const Vec3& v : mesh.vertex) {
@@ -82,6 +83,19 @@ TriangleGrid binTriangles(const TriangleMesh& mesh, double reach, double cell) {
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x) {
   return nearestAmong(mesh, topology, grid.near(x), x);
+}
+
+void trianglesWithin(const TriangleMesh& mesh, const MeshTopology& topology,
+                     const TriangleGrid& grid, const Vec3& x, double limit,
+                     std::vector<std::uint32_t>& out) {
+  for (const std::uint32_t t : grid.near(x)) {
+    const auto& v = mesh.triangle[t];
+    // No point of a triangle is nearer than its plane.
+    if (!(std::abs((x - mesh.vertex[v[0]]).dot(topology.normal[t])) < limit)) continue;
+    const TriangleTouch touch =
+        closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
+    if ((x - touch.point).norm() < limit) out.push_back(t);
+  }
 }
 
 }  // namespace granular

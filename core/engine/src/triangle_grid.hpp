@@ -15,7 +15,8 @@ struct TriangleGrid {
   Vec3 origin = Vec3::Zero();
   double cell = 1.0;  ///< cell edge [m]
   int dims[3] = {0, 0, 0};
-  double reach = 0;  ///< every triangle within this of a point is among its cell's [m]
+  double reach = 0;      ///< every triangle within this of a point is among its cell's [m]
+  double cellAsked = 0;  ///< the cell edge binTriangles was asked for (`cell` is at least it) [m]
   std::vector<std::uint32_t> cellStart;  ///< cells + 1 entries
   std::vector<std::uint32_t> triangles;
 
@@ -45,6 +46,13 @@ struct MeshNearest {
 };
 MeshNearest nearestOnMesh(const TriangleMesh& mesh, const MeshTopology& topology,
                           const TriangleGrid& grid, const Vec3& x);
+
+/// Appends to `out` the grid's candidates of x that lie nearer x than `limit` (≤ the grid's
+/// reach), in the cell's order: a neighbour list's triangles of a particle at a build. Those
+/// whose plane is that far are passed over without the closest point.
+void trianglesWithin(const TriangleMesh& mesh, const MeshTopology& topology,
+                     const TriangleGrid& grid, const Vec3& x, double limit,
+                     std::vector<std::uint32_t>& out);
 
 /// Every triangle index 0..count-1 as a range (std::views::iota trips clang on libstdc++ 12).
 struct AllTriangles {

@@ -118,7 +118,7 @@ Particles placeInserted(const InsertSpec& insert, std::uint64_t wanted, std::uin
       const Vec3 x = drawCentre(insert.region, r, rng);
       if (hash.overlaps(x, r)) continue;
       const bool touchesWall = std::any_of(walls.begin(), walls.end(), [&](const Wall& w) {
-        return !w.removed && surfaceDistance(w, x) < r;
+        return !w.removed && surfaceNearer(w, x, r);
       });
       if (touchesWall) continue;
       hash.add(x, r);

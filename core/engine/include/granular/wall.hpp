@@ -75,5 +75,9 @@ struct Wall {
 /// it), ≥ 0 for a shell [m]. A mesh's is found over all its triangles: for set-up work (placing
 /// particles), not for every step.
 double surfaceDistance(const Wall& w, const Vec3& x);
+/// Whether the wall's surface lies nearer x than `r` (surfaceDistance(w, x) < r): a mesh's
+/// triangles are looked at until one is, those whose plane is that far passed over (an insert
+/// asks at every try to place a particle).
+bool surfaceNearer(const Wall& w, const Vec3& x, double r);
 
 }  // namespace granular
