@@ -207,6 +207,13 @@ std::vector<std::uint32_t> firstOfPairs(const NeighbourList& list) {
 
 namespace {
 
+/// Below this many particles several threads search the pairs once (searchOnce), at and above
+/// it count first (searchCountingFirst): the threads' buffers of a search made once add about
+/// 11 B a particle to a rebuild's peak at 2 threads (more at more), which a 10⁶-particle bed
+/// cannot spare within its 400 B (bench/RESULTS.md, "Issue 6 targets"); below it the bed's memory
+/// is small whatever the list's.
+constexpr std::size_t kSearchOnceBelow = std::size_t{1} << 17;
+
 /// The pair search of a first build, twice over the same search, count then fill, so that the
 /// list is allocated once at its exact size: with no list before it, buffers growing by
 /// doubling would be the transient peak of the run's memory (at 10⁶ particles they were).
@@ -335,7 +342,9 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
   const int teams = threads > 0 ? threads : omp_get_max_threads();
   if (n > 1) {
     const CellGrid grid = binParticles(p, 2.0 * rMax + margin);
-    if (!list.second.empty()) {
+    // Once where that holds no more memory than counting first (one thread), or where the
+    // threads' buffers are small beside the bed's arrays; a large bed counts first.
+    if (!list.second.empty() && (teams == 1 || n < kSearchOnceBelow)) {
       searchOnce(grid, p, margin, list.second.size(), teams, rowStart, second);
     } else {
       searchCountingFirst(grid, p, margin, teams, rowStart, second);
