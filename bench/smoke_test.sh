@@ -97,7 +97,7 @@ case $case in
     ;;
   peer_stage2)
     # granular_peer_stage2 --checkpoint runs/paper/mu03/settled.ckpt --fresh --duration 0.3
-    # --threads 2 --integrator I --series FILE, --exact-sums, --dt 1.7e-4 --skin 0.003
+    # --threads 2 --integrator I --series FILE, --exact-sums, --dt 1.7e-4 --skin 0.003, --unchecked
     # (bench/RESULTS.md, bench/peer/README.md)
     restored=(--checkpoint "$checkpoint" --scene "$scenes/paper-mu03.toml")
     for integrator in gear5 verlet; do
@@ -107,6 +107,9 @@ case $case in
     run "$bench/granular_peer_stage2" "${restored[@]}" --duration 0.05 --exact-sums
     run "$bench/granular_peer_stage2" "${restored[@]}" --fresh --dt 1.7e-4 --skin 0.003 \
       --duration 0.05 --rebuild-every-step
+    # a step above the network's limit, its check off (the sweep's granular-*-unchecked)
+    run "$bench/granular_peer_stage2" "${restored[@]}" --fresh --integrator verlet --unchecked \
+      --dt 6.8e-4 --skin 0.003 --duration 0.05
     ;;
   peer_run)
     # bench/peer/run.sh --quick (bench/peer/README.md); LAMMPS and LIGGGHTS, where absent, are

@@ -2,7 +2,7 @@
 /// checkpoint, timed, for the side-by-side benchmark against LAMMPS and LIGGGHTS (bench/peer/).
 ///
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--skin M] [--threads N]
-///                        [--duration S] [--exact-sums]
+///                        [--duration S] [--exact-sums] [--unchecked]
 ///                        [--fresh [--integrator gear5|verlet]] [--series FILE]
 ///                        [--auto [--contact-resolution N]]
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--export-lammps DIR]
@@ -55,6 +55,7 @@ struct Options {
   int radiusTypes = 10;
   bool meanWallStiffness = false;
   bool rebuildEveryStep = false;
+  bool unchecked = false;         // a fixed step run without its check against the network
   bool automatic = false;         // time_step = "auto" (with --fresh)
   double contactResolution = 10;  // its accuracy floor t_c / N
 };
@@ -147,6 +148,11 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
     throw ConfigError("--integrator needs --fresh: the checkpoint's derivatives belong to its own");
   }
   Simulation sim = o.fresh ? withoutHistory(settled, o.integrator) : std::move(settled);
+  // Unchecked, a step above the network's is taken (where the run really breaks is measured).
+  if (o.unchecked) {
+    if (o.automatic) throw ConfigError("--unchecked is for a fixed step, not --auto");
+    studies::disableStepLimit(sim, true);
+  }
   if (o.dt) sim.setTimeStep(*o.dt);
   if (o.skin) sim.setSkin(*o.skin);
   if (o.automatic) {
@@ -255,6 +261,9 @@ int main(int argc, char** argv) {
                  "Radius classes (atom types) for the peers' per-type stiffness (default 10)");
   app.add_flag("--mean-wall-stiffness", o.meanWallStiffness,
                "LAMMPS: one set of walls, stiffness of the mean radius (default: per class)");
+  app.add_flag("--unchecked", o.unchecked,
+               "A fixed step taken without its check against the contact network: a step above "
+               "the network's runs (to find where it really breaks)");
   app.add_flag("--rebuild-every-step", o.rebuildEveryStep,
                "Rebuild the neighbour list every step (times the rebuild; same physics)");
   try {

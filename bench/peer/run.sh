@@ -8,6 +8,8 @@
 #                     [--scene FILE] [--out DIR] [--reps N] [--no-wait]
 #
 #   --quick       0.2 s of stage 2, sweep 1, 2, 4 x dt against 0.5 x dt, one repetition (< 1 min)
+# The sweep also runs granular's fixed steps with their check off (granular-*-unchecked, from 2
+# to 24 x dt), to show where each really breaks beside the step it accepts.
 #   --build-dir   CMake build folder (default build/release); --no-build uses it as it is
 #   --checkpoint  settled mu = 0.3 bed (default runs/paper/mu03/settled.ckpt)
 #   --scene       the scene the checkpoint was settled from (default assets/scenes/paper-mu03.toml)
@@ -46,9 +48,9 @@ done
 DT=1.7e-4        # the paper scene's step [s]
 SKIN=0.003       # neighbour skin of every code [m]; LAMMPS timings barely change over 0.001-0.009 m
 if [[ $QUICK == 1 ]]; then
-  TEND=0.2; REF=0.5; FACTORS="1 2 4"; REPS=1
+  TEND=0.2; REF=0.5; FACTORS="1 2 4"; REPS=1; UNCHECKED="4"
 else
-  TEND=1.0; REF=0.25; FACTORS="1 2 3 4 5 6 8 10 12 16 20 24"
+  TEND=1.0; REF=0.25; FACTORS="1 2 3 4 5 6 8 10 12 16 20 24"; UNCHECKED="2 4 6 8 10 12 16 20 24"
 fi
 
 if [[ ! -f "$CHECKPOINT" ]]; then
@@ -99,6 +101,10 @@ run_code() {
       "$BIN" "${G[@]}" --fresh --integrator "${code#granular-}" --threads "$threads" --dt "$dt" \
         --skin "$SKIN" \
         --duration "$TEND" "${series[@]}" ;;
+    granular-gear5-unchecked|granular-verlet-unchecked)  # the fixed step, its check off
+      local integrator=${code#granular-}
+      "$BIN" "${G[@]}" --fresh --integrator "${integrator%-unchecked}" --unchecked \
+        --threads "$threads" --dt "$dt" --skin "$SKIN" --duration "$TEND" "${series[@]}" ;;
     granular-gear5-ranks)  # as granular-gear5, split by space among THREADS ranks of 1 thread
       OMP_NUM_THREADS=1 "${mpi[@]}" "$BIN" "${G[@]}" --fresh --integrator gear5 --threads 1 \
         --dt "$dt" --skin "$SKIN" --duration "$TEND" ;;
@@ -153,6 +159,14 @@ SWEEP=(granular-gear5 granular-verlet)
 [[ $HAVE_LIG == 1 ]] && SWEEP+=(liggghts)
 for code in "${SWEEP[@]}"; do
   for factor in $REF $FACTORS; do
+    dt=$(awk -v a="$DT" -v f="$factor" 'BEGIN { printf "%.9g", a * f }')
+    run_code "$code" 1 "$dt" 1 "$OUT/sweep/${code}_x${factor}"
+  done
+done
+# Where granular's fixed steps really break: their check against the network off, each against
+# the checked run's reference.
+for code in granular-gear5-unchecked granular-verlet-unchecked; do
+  for factor in $UNCHECKED; do
     dt=$(awk -v a="$DT" -v f="$factor" 'BEGIN { printf "%.9g", a * f }')
     run_code "$code" 1 "$dt" 1 "$OUT/sweep/${code}_x${factor}"
   done
