@@ -30,8 +30,8 @@ class GranularProcess {
   GranularProcess(std::vector<std::string> args, std::filesystem::path stderrFile,
                   std::vector<std::string> extraEnv = {})
       : stderrFile_(std::move(stderrFile)) {
-    args.insert(args.begin(), GRANULAR_EXECUTABLE);
-    std::vector<char*> argv;
+    std::string program = GRANULAR_EXECUTABLE;
+    std::vector<char*> argv{program.data()};
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     for (char** e = environ; *e; ++e) extraEnv.emplace_back(*e);
