@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "benchmark_failures.hpp"
+#include "granular/network_frequency.hpp"
+#include "granular/network_spectrum.hpp"
 #include "granular/packings.hpp"
 #include "granular/scene.hpp"
 #include "granular/simulation.hpp"
@@ -101,6 +103,32 @@ void stepBenchmark(benchmark::State& state, Integrator integrator, double fricti
   }
 }
 
+/// Times one look at the contact network of the settled bed, against a step: the bound of
+/// the fixed step's checks (32 sweeps, granular/network_frequency.hpp) or the Lanczos estimate
+/// (granular/network_spectrum.hpp); state.range(0) = n, state.range(1) = settle steps.
+void networkBenchmark(benchmark::State& state, bool estimate) {
+  const auto n = static_cast<std::size_t>(state.range(0));
+  const auto settleSteps = static_cast<std::uint64_t>(state.range(1));
+  try {
+    const Bed& bed = settledBed(n, settleSteps, 0.3);
+    const granular::Simulation sim(bed.particles, bed.walls,
+                                   makeConfig(Integrator::VelocityVerlet, 0.3));
+    int products = 0;
+    for (auto _ : state) {
+      if (estimate) {
+        const granular::NetworkSpectrum s = granular::networkSpectrumEstimate(sim);
+        benchmark::DoNotOptimize(s.omegaMax);
+        products = s.products;
+      } else {
+        benchmark::DoNotOptimize(granular::networkFrequencyBound(sim).omegaMax);
+      }
+    }
+    state.counters["products"] = products;
+  } catch (const std::exception& e) {
+    granular::bench::failCase(state, e);
+  }
+}
+
 /// Removes --quick from the arguments (Google Benchmark refuses flags it does not know); true if
 /// it was there.
 bool takeQuick(int& argc, char** argv) {
@@ -150,6 +178,15 @@ int main(int argc, char** argv) {
         b->Unit(benchmark::kMillisecond);
       }
     }
+  }
+
+  for (const bool estimate : {false, true}) {
+    const std::string name = std::string("network/") + (estimate ? "estimate" : "bound");
+    auto* b = benchmark::RegisterBenchmark(
+        name.c_str(), [estimate](benchmark::State& s) { networkBenchmark(s, estimate); });
+    b->ArgNames({"n", "settle"})->Args({2000, 5000});
+    b->Iterations(quick ? 2 : 50)->Repetitions(quick ? 1 : 3)->ReportAggregatesOnly(!quick);
+    b->Unit(benchmark::kMillisecond);
   }
 
   benchmark::Initialize(&argc, argv);
