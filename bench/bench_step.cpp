@@ -104,26 +104,35 @@ void stepBenchmark(benchmark::State& state, Integrator integrator, double fricti
 }
 
 /// Times one look at the contact network of the settled bed, against a step: the bound of
-/// the fixed step's checks (32 sweeps, granular/network_frequency.hpp) or the Lanczos estimate
-/// (granular/network_spectrum.hpp); state.range(0) = n, state.range(1) = settle steps.
-void networkBenchmark(benchmark::State& state, bool estimate) {
+/// the fixed step's checks (32 sweeps, granular/network_frequency.hpp), the Lanczos estimate
+/// (granular/network_spectrum.hpp) from a cold start, or warm-started from the estimate 100
+/// steps before (the steps untimed); state.range(0) = n, state.range(1) = settle steps.
+enum class NetworkLook { Bound, Cold, Warm };
+void networkBenchmark(benchmark::State& state, NetworkLook look) {
   const auto n = static_cast<std::size_t>(state.range(0));
   const auto settleSteps = static_cast<std::uint64_t>(state.range(1));
   try {
     const Bed& bed = settledBed(n, settleSteps, 0.3);
-    const granular::Simulation sim(bed.particles, bed.walls,
-                                   makeConfig(Integrator::VelocityVerlet, 0.3));
+    granular::Simulation sim(bed.particles, bed.walls, makeConfig(Integrator::VelocityVerlet, 0.3));
+    granular::NetworkSpectrumStart start;
+    if (look == NetworkLook::Warm) granular::networkSpectrumEstimate(sim, &start);
     int products = 0;
     for (auto _ : state) {
-      if (estimate) {
-        const granular::NetworkSpectrum s = granular::networkSpectrumEstimate(sim);
-        benchmark::DoNotOptimize(s.omegaMax);
-        products = s.products;
-      } else {
+      if (look == NetworkLook::Bound) {
         benchmark::DoNotOptimize(granular::networkFrequencyBound(sim).omegaMax);
+        continue;
       }
+      if (look == NetworkLook::Warm) {
+        state.PauseTiming();
+        sim.run(100);
+        state.ResumeTiming();
+      }
+      const granular::NetworkSpectrum s =
+          granular::networkSpectrumEstimate(sim, look == NetworkLook::Warm ? &start : nullptr);
+      benchmark::DoNotOptimize(s.omegaMax);
+      products += s.products;
     }
-    state.counters["products"] = products;
+    state.counters["products"] = double(products) / double(state.iterations());
   } catch (const std::exception& e) {
     granular::bench::failCase(state, e);
   }
@@ -180,10 +189,12 @@ int main(int argc, char** argv) {
     }
   }
 
-  for (const bool estimate : {false, true}) {
-    const std::string name = std::string("network/") + (estimate ? "estimate" : "bound");
+  for (const auto& [look, lookName] :
+       {std::pair{NetworkLook::Bound, "bound"}, std::pair{NetworkLook::Cold, "estimate"},
+        std::pair{NetworkLook::Warm, "estimate-warm"}}) {
+    const std::string name = std::string("network/") + lookName + "/frictional";
     auto* b = benchmark::RegisterBenchmark(
-        name.c_str(), [estimate](benchmark::State& s) { networkBenchmark(s, estimate); });
+        name.c_str(), [look = look](benchmark::State& s) { networkBenchmark(s, look); });
     b->ArgNames({"n", "settle"})->Args({2000, 5000});
     b->Iterations(quick ? 2 : 50)->Repetitions(quick ? 1 : 3)->ReportAggregatesOnly(!quick);
     b->Unit(benchmark::kMillisecond);

@@ -286,3 +286,35 @@ TEST(NetworkFrequency, VerletAtTheNetworksStepIsStableOnTheDampedNetwork) {
     EXPECT_LE(lo / step.dt, 2.5);  // the price of the bound, stated in physics.md §2.16
   }
 }
+
+TEST(NetworkSpectrum, AWarmStartNeedsFewerProductsAndEveryThreadCountGivesTheSameBits) {
+  Material material;
+  material.friction = 0.3;
+  Simulation sim = settledBed(material);
+  NetworkSpectrumStart start;
+  const NetworkSpectrum cold = networkSpectrumEstimate(sim, &start);
+  EXPECT_FALSE(start.stiffness.empty());
+  EXPECT_FALSE(start.damping.empty());
+  // On the same network the Ritz vectors are converged: one product each.
+  const NetworkSpectrum again = networkSpectrumEstimate(sim, &start);
+  EXPECT_EQ(again.products, 2);
+  EXPECT_NEAR(again.omegaMax, cold.omegaMax, 1e-3 * cold.omegaMax);
+  // 200 steps on, from the last Ritz vectors: fewer products than a cold start there, and the
+  // same values to within the tolerance.
+  for (int k = 0; k < 200; ++k) sim.step();
+  const NetworkSpectrum warm = networkSpectrumEstimate(sim, &start);
+  const NetworkSpectrum fresh = networkSpectrumEstimate(sim);
+  std::printf("cold %d products, warm %d (after 200 steps), fresh %d\n", cold.products,
+              warm.products, fresh.products);
+  EXPECT_LT(warm.products, fresh.products);
+  EXPECT_NEAR(warm.omegaMax, fresh.omegaMax, 1e-2 * fresh.omegaMax);
+  EXPECT_NEAR(warm.dampingRate, fresh.dampingRate, 1e-2 * fresh.dampingRate);
+  // The products and sums are split among threads in ways that do not depend on their count.
+  for (int threads : {1, 2, 3}) {
+    sim.setThreads(threads);
+    const NetworkSpectrum s = networkSpectrumEstimate(sim);
+    EXPECT_EQ(s.omegaMax, fresh.omegaMax) << threads << " threads";
+    EXPECT_EQ(s.dampingRate, fresh.dampingRate) << threads << " threads";
+    EXPECT_EQ(s.products, fresh.products) << threads << " threads";
+  }
+}

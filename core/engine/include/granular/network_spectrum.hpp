@@ -7,6 +7,7 @@
 /// products on settled beds (tests/test_network_frequency.cpp), where the bound is 1.3–1.5 ×
 /// above; capped by the bound, which stays the outer limit.
 #include <cstddef>
+#include <vector>
 
 #include "granular/simulation.hpp"
 
@@ -25,11 +26,21 @@ struct NetworkSpectrum {
   int products = 0;          ///< matrix–vector products, A's and D's together
 };
 
+/// What an estimate leaves for the next one on the same particles: the Ritz vectors of A and D.
+/// Started from them, an estimate on a network that has changed little needs a few products
+/// instead of tens. Empty (a cold start) where the particle count changed or the network is too
+/// large to keep the Lanczos basis (64 MB).
+struct NetworkSpectrumStart {
+  std::vector<double> stiffness, damping;
+};
+
 /// Estimates ω_max and Γ of `sim`'s touching contacts by at most `iterations` Lanczos steps on
 /// each matrix (fewer where the Ritz pair's residual falls below `tolerance` of its value),
-/// from a fixed start vector: the same bits on any thread count. A run split among processes
-/// gets the bound (granular/network_frequency.hpp) in both values.
-NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, int iterations = 40,
+/// from `start` where it fits and a fixed vector otherwise, on the engine's threads: the same
+/// bits on any thread count. `start` (may be null) then holds this estimate's Ritz vectors. A
+/// run split among processes gets the bound (granular/network_frequency.hpp) in both values.
+NetworkSpectrum networkSpectrumEstimate(const Simulation& sim,
+                                        NetworkSpectrumStart* start = nullptr, int iterations = 40,
                                         double tolerance = 1e-2);
 
 }  // namespace granular
