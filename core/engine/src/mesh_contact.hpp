@@ -3,6 +3,7 @@
 /// triangle near it (face, edge or vertex), reduced to one contact per touched surface. On a
 /// flat or gently curved region of many triangles a sphere has one contact however the region
 /// is cut; in a corner sharper than kSameSurfaceDegrees, one per side.
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -26,6 +27,17 @@ struct TriangleTouch {
 /// The point of triangle abc closest to x, and its feature (edge k runs from vertex k to k + 1).
 /// A point on an edge's line or at a corner belongs to the edge or the corner.
 TriangleTouch closestOnTriangle(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& x);
+
+/// Whether triangle t of `mesh` has a point nearer x than `limit`. A triangle whose plane is
+/// that far is passed over without the closest point: no point of it is nearer than its plane.
+inline bool triangleWithin(const TriangleMesh& mesh, const MeshTopology& topology, std::size_t t,
+                           const Vec3& x, double limit) {
+  const auto& v = mesh.triangle[t];
+  if (!(std::abs((x - mesh.vertex[v[0]]).dot(topology.normal[t])) < limit)) return false;
+  const TriangleTouch touch =
+      closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
+  return (x - touch.point).norm() < limit;
+}
 
 /// One contact of a sphere with a mesh.
 struct MeshContact {

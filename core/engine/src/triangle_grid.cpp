@@ -89,12 +89,7 @@ void trianglesWithin(const TriangleMesh& mesh, const MeshTopology& topology,
                      const TriangleGrid& grid, const Vec3& x, double limit,
                      std::vector<std::uint32_t>& out) {
   for (const std::uint32_t t : grid.near(x)) {
-    const auto& v = mesh.triangle[t];
-    // No point of a triangle is nearer than its plane.
-    if (!(std::abs((x - mesh.vertex[v[0]]).dot(topology.normal[t])) < limit)) continue;
-    const TriangleTouch touch =
-        closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
-    if ((x - touch.point).norm() < limit) out.push_back(t);
+    if (triangleWithin(mesh, topology, t, x, limit)) out.push_back(t);
   }
 }
 

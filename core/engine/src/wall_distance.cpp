@@ -17,12 +17,7 @@ bool surfaceNearer(const Wall& w, const Vec3& x, double r) {
   const TriangleMesh& mesh = w.mesh->world;
   const MeshTopology& topology = w.mesh->topology;
   for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
-    const auto& v = mesh.triangle[t];
-    // No point of a triangle is nearer than its plane.
-    if (!(std::abs((x - mesh.vertex[v[0]]).dot(topology.normal[t])) < r)) continue;
-    const TriangleTouch touch =
-        closestOnTriangle(mesh.vertex[v[0]], mesh.vertex[v[1]], mesh.vertex[v[2]], x);
-    if ((x - touch.point).norm() < r) return true;
+    if (triangleWithin(mesh, topology, t, x, r)) return true;
   }
   return false;
 }
