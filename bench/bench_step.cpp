@@ -115,7 +115,7 @@ void networkBenchmark(benchmark::State& state, NetworkLook look) {
     const Bed& bed = settledBed(n, settleSteps, 0.3);
     granular::Simulation sim(bed.particles, bed.walls, makeConfig(Integrator::VelocityVerlet, 0.3));
     granular::NetworkSpectrumStart start;
-    if (look == NetworkLook::Warm) granular::networkSpectrumEstimate(sim, &start);
+    if (look == NetworkLook::Warm) granular::networkSpectrumEstimate(sim, 0.0, &start);
     int products = 0;
     for (auto _ : state) {
       if (look == NetworkLook::Bound) {
@@ -128,7 +128,7 @@ void networkBenchmark(benchmark::State& state, NetworkLook look) {
         state.ResumeTiming();
       }
       const granular::NetworkSpectrum s =
-          granular::networkSpectrumEstimate(sim, look == NetworkLook::Warm ? &start : nullptr);
+          granular::networkSpectrumEstimate(sim, 0.0, look == NetworkLook::Warm ? &start : nullptr);
       benchmark::DoNotOptimize(s.omegaMax);
       products += s.products;
     }

@@ -292,17 +292,17 @@ TEST(NetworkSpectrum, AWarmStartNeedsFewerProductsAndEveryThreadCountGivesTheSam
   material.friction = 0.3;
   Simulation sim = settledBed(material);
   NetworkSpectrumStart start;
-  const NetworkSpectrum cold = networkSpectrumEstimate(sim, &start);
+  const NetworkSpectrum cold = networkSpectrumEstimate(sim, 0.0, &start);
   EXPECT_FALSE(start.stiffness.empty());
   EXPECT_FALSE(start.damping.empty());
   // On the same network the Ritz vectors are converged: one product each.
-  const NetworkSpectrum again = networkSpectrumEstimate(sim, &start);
+  const NetworkSpectrum again = networkSpectrumEstimate(sim, 0.0, &start);
   EXPECT_EQ(again.products, 2);
   EXPECT_NEAR(again.omegaMax, cold.omegaMax, 1e-3 * cold.omegaMax);
   // 200 steps on, from the last Ritz vectors: fewer products than a cold start there, and the
   // same values to within the tolerance.
   for (int k = 0; k < 200; ++k) sim.step();
-  const NetworkSpectrum warm = networkSpectrumEstimate(sim, &start);
+  const NetworkSpectrum warm = networkSpectrumEstimate(sim, 0.0, &start);
   const NetworkSpectrum fresh = networkSpectrumEstimate(sim);
   std::printf("cold %d products, warm %d (after 200 steps), fresh %d\n", cold.products,
               warm.products, fresh.products);
@@ -316,5 +316,40 @@ TEST(NetworkSpectrum, AWarmStartNeedsFewerProductsAndEveryThreadCountGivesTheSam
     EXPECT_EQ(s.omegaMax, fresh.omegaMax) << threads << " threads";
     EXPECT_EQ(s.dampingRate, fresh.dampingRate) << threads << " threads";
     EXPECT_EQ(s.products, fresh.products) << threads << " threads";
+  }
+}
+
+TEST(NetworkSpectrum, ContactsAboutToTouchCountWithTheLookaheadAtTheirClosedForm) {
+  // Frictionless Hooke spheres in free space, not yet touching: two approaching each other
+  // (their one mode, ω² = k (1/m + 1/m) = 2k/m) and one approaching the floor (ω² = k_w/m).
+  // Without the lookahead the network has no contact; with it, the estimate is the closed form
+  // and the bound is above it.
+  const Material material;
+  SimulationConfig cfg;
+  cfg.material = material;
+  cfg.gravity = Vec3::Zero();
+  cfg.timeStep = stiffestContact(material, 0.03, 1.0).duration / 50;
+  const double r = 0.03, gap = 1e-4, u = 0.5;
+  Particles pair;
+  pair.add(Vec3(0.5, 0.5, 0.5), r, material.density, Vec3(u, 0, 0));
+  pair.add(Vec3(0.5 + 2 * r + gap, 0.5, 0.5), r, material.density, Vec3(-u, 0, 0));
+  const Simulation pairSim(std::move(pair), {Wall{"floor", Vec3::Zero(), Vec3::UnitZ()}}, cfg);
+  Particles falling;
+  falling.add(Vec3(0.5, 0.5, r + gap), r, material.density, Vec3(0, 0, -u));
+  const Simulation wallSim(std::move(falling), {Wall{"floor", Vec3::Zero(), Vec3::UnitZ()}}, cfg);
+  const double m = pairSim.particles().mass[0];
+  const double kPair = contactStiffness(material, 0.5 * r, 0.0).normal;
+  const double kWall = contactStiffness(material, r, 0.0).normal;
+  const struct {
+    const Simulation& sim;
+    double omega;
+  } cases[] = {{pairSim, std::sqrt(2.0 * kPair / m)}, {wallSim, std::sqrt(kWall / m)}};
+  for (const auto& c : cases) {
+    EXPECT_EQ(networkSpectrumEstimate(c.sim).omegaMax, 0.0);
+    const NetworkSpectrum ahead = networkSpectrumEstimate(c.sim, 1e-3);
+    EXPECT_EQ(ahead.contacts, 0u);
+    EXPECT_EQ(ahead.approaching, 1u);
+    EXPECT_NEAR(ahead.omegaMax, c.omega, 1e-9 * c.omega);
+    EXPECT_GE(networkFrequencyBound(c.sim, 32, 1e-3).omegaMax, ahead.omegaMax);
   }
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// The network's frequency bound on the engine's state (network_frequency.cpp), for the step
 /// control inside the step (simulation.cpp).
+#include <cstddef>
 #include <functional>
 
 #include "granular/network_frequency.hpp"
@@ -9,6 +10,22 @@
 namespace granular {
 
 struct SimulationState;
+
+/// One contact of the linearised network: bodies i and j (j = i: a wall), the unit normal from
+/// i towards j (into the wall), R_ij [m], m_ij [kg], the overlap it is linearised at [m] (under
+/// Hertz's law with the overlap a head-on impact at its closing speed adds), that closing speed
+/// [m/s], and whether it touches now (else a candidate about to touch).
+struct NetworkContact {
+  std::size_t i = 0, j = 0;
+  Vec3 normal;
+  double reduced = 0, mass = 0, overlap = 0, approach = 0;
+  bool touching = true;
+};
+/// Calls `visit` for every touching contact (a pair from its first side) and, with `lookahead`
+/// > 0 [s], every neighbour-list candidate (pair or wall) that closes its gap within it at its
+/// present closing speed: the contacts the bound and the estimate count.
+void visitNetworkContacts(const SimulationState& s, double lookahead,
+                          const std::function<void(const NetworkContact&)>& visit);
 /// With `enough`, the sweeps stop as soon as it holds for the bound so far (every sweep's bound
 /// is an upper bound: stopping early only gives away tightness that was not needed).
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,

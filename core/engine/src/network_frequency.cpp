@@ -134,13 +134,94 @@ class PowerBound {
 
 }  // namespace
 
+void visitNetworkContacts(const SimulationState& s, double lookahead,
+                          const std::function<void(const NetworkContact&)>& visit) {
+  const Particles& p = s.particles;
+  const Material& material = s.config.material;
+  const bool hertz = material.normalLaw == NormalLaw::Hertz;
+  const double kappa = material.normalCoefficient();
+  // The overlap an impact at closing speed u adds under Hertz's law (Hooke's k_n does not
+  // depend on it): ½ m u² = (2/5) κ √R h^(5/2).
+  auto impactOverlap = [&](double mass, double reduced, double u) {
+    if (!hertz || !(u > 0.0)) return 0.0;
+    return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
+  };
+  auto pairOf = [&](std::size_t i, std::size_t j, const Vec3& normal, double u, double h,
+                    bool touching) {
+    const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
+    const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+    visit({i, j, normal, reduced, mass, h + impactOverlap(mass, reduced, u), u, touching});
+  };
+  auto wallOf = [&](std::size_t i, const Vec3& normal, double u, double h, bool touching) {
+    visit({i, i, normal, p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u), u,
+           touching});
+  };
+
+  // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
+  visitContacts(
+      s,
+      [&](const ContactView& c) {
+        // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is a
+        // candidate below, about to touch if it approaches.
+        if (c.overlap < 0.0) return;
+        const std::size_t i = c.particle;
+        if (c.isWall()) {
+          const double u = (p.velocity[i] - s.walls[c.wall()].velocityAt(c.point)).dot(c.normal);
+          wallOf(i, c.normal, u, c.overlap, true);
+        } else {
+          const std::size_t j = c.otherParticle();
+          if (j < i) return;
+          pairOf(i, j, c.normal, (p.velocity[i] - p.velocity[j]).dot(c.normal), c.overlap, true);
+        }
+      },
+      nullptr);
+
+  // Candidates about to touch: the neighbour list holds every pair that can touch before it is
+  // rebuilt.
+  const NeighbourList& list = s.neighbours;
+  if (!(lookahead > 0.0) || !list.valid || list.rowStart.size() != p.size() + 1) return;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+      const std::size_t j = list.second[k];
+      const Vec3 d = p.position[j] - p.position[i];
+      const double distance = d.norm();
+      const double gap = distance - p.radius[i] - p.radius[j];
+      if (!(gap > 0.0)) continue;  // touching: counted above
+      const double u = (p.velocity[i] - p.velocity[j]).dot(d) / distance;
+      if (!(u > 0.0) || gap > u * lookahead) continue;
+      pairOf(i, j, d / distance, u, 0.0, false);
+    }
+  }
+  for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
+    const Wall& wall = s.walls[w];
+    const bool mesh = wall.shape == WallShape::Mesh;
+    const bool binned = mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty();
+    for (std::size_t k = 0; k < list.wallParticles[w].size(); ++k) {
+      const std::uint32_t i = list.wallParticles[w][k];
+      if (i >= p.size() || (mesh && k % kMeshContacts != 0)) continue;  // a mesh's first entry
+      WallTouch touch;
+      if (binned) {
+        const MeshNearest nearest =
+            nearestOnMesh(wall.mesh->world, wall.mesh->topology, list.meshGrid[w], p.position[i]);
+        touch = {nearest.distance, nearest.normal};
+      } else {
+        touch = touchOf(wall, p.position[i]);
+      }
+      const double gap = touch.distance - p.radius[i];
+      if (!(gap > 0.0)) continue;
+      const Vec3 closest = p.position[i] - touch.distance * touch.normal;
+      const double u = -(p.velocity[i] - wall.velocityAt(closest)).dot(touch.normal);
+      if (!(u > 0.0) || gap > u * lookahead) continue;
+      wallOf(i, -touch.normal, u, 0.0, false);
+    }
+  }
+}
+
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough) {
   const Particles& p = s.particles;
   const Material& material = s.config.material;
   const bool rotations = s.frictional;
-  const bool hertz = material.normalLaw == NormalLaw::Hertz;
-  const double kappa = material.normalCoefficient();
   const ContactConstants constants(material, s.config.timeStep);
   const unsigned optional = optionalMask(material);
   GainMatrix stiffness(p.size()), damping(p.size());
@@ -151,22 +232,20 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   auto body = [&](std::size_t i, double h) {
     return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
   };
-  // The overlap an impact at closing speed u adds under Hertz's law (Hooke's k_n does not
-  // depend on it): ½ m u² = (2/5) κ √R h^(5/2).
-  auto impactOverlap = [&](double mass, double reduced, double u) {
-    if (!hertz || !(u > 0.0)) return 0.0;
-    return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
-  };
   // A split run counts a contact on the rank that owns its first particle.
   auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
   bool added = false;  // a contact added here
   // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
   // on its modes (contact_linearisation.hpp).
-  auto add = [&](std::size_t i, std::size_t j, double reduced, double mass, double h) {
+  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
+    const std::size_t i = n.i, j = n.j;
+    const double h = n.overlap;
     const bool wall = j == i;
+    out.fastestApproach = std::max(out.fastestApproach, n.approach);
+    (n.touching ? out.contacts : out.approaching) += mine(i) ? 1 : 0;
     LinearContact linear;
-    linear.radius = reduced;
-    linear.mass = mass;
+    linear.radius = n.reduced;
+    linear.mass = n.mass;
     linear.overlap = std::max(h, 0.0);
     const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
     const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
@@ -188,79 +267,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
                    contactGain(k, body(j, h), rotations));
     damping.pair(i, j, contactGain(c, body(i, h), rotations),
                  contactGain(c, body(j, h), rotations));
-  };
-
-  // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
-  visitContacts(
-      s,
-      [&](const ContactView& c) {
-        // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is a
-        // candidate below, about to touch if it approaches.
-        if (c.overlap < 0.0) return;
-        const std::size_t i = c.particle;
-        if (c.isWall()) {
-          const double u = (p.velocity[i] - s.walls[c.wall()].velocityAt(c.point)).dot(c.normal);
-          out.fastestApproach = std::max(out.fastestApproach, u);
-          add(i, i, p.radius[i], p.mass[i], c.overlap + impactOverlap(p.mass[i], p.radius[i], u));
-        } else {
-          const std::size_t j = c.otherParticle();
-          if (j < i) return;
-          const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-          const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-          const double u = (p.velocity[i] - p.velocity[j]).dot(c.normal);
-          out.fastestApproach = std::max(out.fastestApproach, u);
-          add(i, j, reduced, mass, c.overlap + impactOverlap(mass, reduced, u));
-        }
-        out.contacts += mine(i) ? 1 : 0;
-      },
-      nullptr);
-
-  // Candidates about to touch: the neighbour list holds every pair that can touch before it is
-  // rebuilt.
-  const NeighbourList& list = s.neighbours;
-  if (lookahead > 0.0 && list.valid && list.rowStart.size() == p.size() + 1) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-        const std::size_t j = list.second[k];
-        const Vec3 d = p.position[j] - p.position[i];
-        const double distance = d.norm();
-        const double gap = distance - p.radius[i] - p.radius[j];
-        if (!(gap > 0.0)) continue;  // touching: counted above
-        const double u = (p.velocity[i] - p.velocity[j]).dot(d) / distance;
-        if (!(u > 0.0) || gap > u * lookahead) continue;
-        const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-        const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-        out.fastestApproach = std::max(out.fastestApproach, u);
-        add(i, j, reduced, mass, impactOverlap(mass, reduced, u));
-        out.approaching += mine(i) ? 1 : 0;
-      }
-    }
-    for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
-      const Wall& wall = s.walls[w];
-      const bool mesh = wall.shape == WallShape::Mesh;
-      const bool binned = mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty();
-      for (std::size_t k = 0; k < list.wallParticles[w].size(); ++k) {
-        const std::uint32_t i = list.wallParticles[w][k];
-        if (i >= p.size() || (mesh && k % kMeshContacts != 0)) continue;  // a mesh's first entry
-        WallTouch touch;
-        if (binned) {
-          const MeshNearest nearest =
-              nearestOnMesh(wall.mesh->world, wall.mesh->topology, list.meshGrid[w], p.position[i]);
-          touch = {nearest.distance, nearest.normal};
-        } else {
-          touch = touchOf(wall, p.position[i]);
-        }
-        const double gap = touch.distance - p.radius[i];
-        if (!(gap > 0.0)) continue;
-        const Vec3 closest = p.position[i] - touch.distance * touch.normal;
-        const double u = -(p.velocity[i] - wall.velocityAt(closest)).dot(touch.normal);
-        if (!(u > 0.0) || gap > u * lookahead) continue;
-        out.fastestApproach = std::max(out.fastestApproach, u);
-        add(i, i, p.radius[i], p.mass[i], impactOverlap(p.mass[i], p.radius[i], u));
-        out.approaching += mine(i) ? 1 : 0;
-      }
-    }
-  }
+  });
 
   if (s.split.domains) {
     // Sums and the least ratio over the ranks (each contact is on one rank or on two alike).

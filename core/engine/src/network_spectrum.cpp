@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "contact_linearisation.hpp"
-#include "force_pass.hpp"
 #include "granular/network_frequency.hpp"
+#include "network_bound.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -230,13 +230,15 @@ RitzValue largestEigenvalue(const NetworkOperator& op, int iterations, double to
 
 }  // namespace
 
-NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, NetworkSpectrumStart* start,
-                                        int iterations, double tolerance) {
+NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
+                                        NetworkSpectrumStart* start, int iterations,
+                                        double tolerance) {
   const SimulationState& s = SimulationAccess::state(sim);
   // The outer limit: Gershgorin's bound, without the sweeps (any upper bound caps).
-  const NetworkFrequency bound = networkFrequencyBound(sim, 0);
+  const NetworkFrequency bound = networkFrequencyBound(s, 0, lookahead, nullptr);
   NetworkSpectrum out;
   out.contacts = bound.contacts;
+  out.approaching = bound.approaching;
   if (s.split.domains || bound.contacts == 0) {
     out.omegaMax = bound.omegaMax;
     out.dampingRate = bound.dampingRate;
@@ -247,35 +249,28 @@ NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, NetworkSpectrumSt
   const ContactConstants constants(material, s.config.timeStep);
   const unsigned optional = optionalMask(material);
   std::vector<LinearLink> links;
-  visitContacts(
-      s,
-      [&](const ContactView& c) {
-        if (c.overlap < 0.0) return;  // a pull across a gap: no spring (as the bound)
-        const std::size_t i = c.particle;
-        const bool wall = c.isWall();
-        const std::size_t j = wall ? i : c.otherParticle();
-        if (!wall && j < i) return;
-        LinearContact linear;
-        linear.radius =
-            wall ? p.radius[i] : p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-        linear.mass = wall ? p.mass[i] : p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-        linear.overlap = c.overlap;
-        const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
-        const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-        linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
-        lineariseContact(constants, s.frictional, optional, linear);
-        LinearLink l;
-        l.i = std::uint32_t(i);
-        l.j = std::uint32_t(j);
-        l.wall = wall;
-        l.normal = c.normal;
-        l.armI = p.radius[i] - 0.5 * c.overlap;
-        l.armJ = wall ? 0.0 : p.radius[j] - 0.5 * c.overlap;
-        l.stiffness = linear.stiffness;
-        l.damping = linear.damping;
-        links.push_back(l);
-      },
-      nullptr);
+  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
+    const std::size_t i = n.i, j = n.j;
+    const bool wall = j == i;
+    LinearContact linear;
+    linear.radius = n.reduced;
+    linear.mass = n.mass;
+    linear.overlap = std::max(n.overlap, 0.0);
+    const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
+    const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
+    linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
+    lineariseContact(constants, s.frictional, optional, linear);
+    LinearLink l;
+    l.i = std::uint32_t(i);
+    l.j = std::uint32_t(j);
+    l.wall = wall;
+    l.normal = n.normal;
+    l.armI = p.radius[i] - 0.5 * linear.overlap;
+    l.armJ = wall ? 0.0 : p.radius[j] - 0.5 * linear.overlap;
+    l.stiffness = linear.stiffness;
+    l.damping = linear.damping;
+    links.push_back(l);
+  });
   const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
   const RitzValue k = largestEigenvalue(NetworkOperator(links, p, s.frictional, false, threads),
                                         iterations, tolerance, start ? &start->stiffness : nullptr);

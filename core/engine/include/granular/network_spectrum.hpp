@@ -22,8 +22,9 @@ struct NetworkSpectrum {
   /// Each Ritz pair's residual ‖A y − θ y‖ over θ [-]: an eigenvalue of A lies within this
   /// fraction of θ (of D for the second), the estimate's own measure of its convergence.
   double omegaResidual = 0, dampingResidual = 0;
-  std::size_t contacts = 0;  ///< touching contacts counted
-  int products = 0;          ///< matrix–vector products, A's and D's together
+  std::size_t contacts = 0;     ///< touching contacts counted
+  std::size_t approaching = 0;  ///< contacts not yet touching counted (the lookahead)
+  int products = 0;             ///< matrix–vector products, A's and D's together
 };
 
 /// What an estimate leaves for the next one on the same particles: the Ritz vectors of A and D.
@@ -34,12 +35,14 @@ struct NetworkSpectrumStart {
   std::vector<double> stiffness, damping;
 };
 
-/// Estimates ω_max and Γ of `sim`'s touching contacts by at most `iterations` Lanczos steps on
+/// Estimates ω_max and Γ of `sim`'s touching contacts and, with `lookahead` > 0 [s], of the
+/// contacts about to touch within it, linearised as the bound counts them
+/// (granular/network_frequency.hpp), by at most `iterations` Lanczos steps on
 /// each matrix (fewer where the Ritz pair's residual falls below `tolerance` of its value),
 /// from `start` where it fits and a fixed vector otherwise, on the engine's threads: the same
 /// bits on any thread count. `start` (may be null) then holds this estimate's Ritz vectors. A
 /// run split among processes gets the bound (granular/network_frequency.hpp) in both values.
-NetworkSpectrum networkSpectrumEstimate(const Simulation& sim,
+NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead = 0.0,
                                         NetworkSpectrumStart* start = nullptr, int iterations = 40,
                                         double tolerance = 1e-2);
 
