@@ -31,7 +31,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The silo run once for every test here (about a second), each test working on its own copy.
+/// The small silo run once for every test here (a fraction of a second), each test working on
+/// its own copy.
 class RunFigures : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -39,7 +40,7 @@ class RunFigures : public ::testing::Test {
     fs::remove_all(root_);
     fs::create_directories(root_);
     granular::testing::GranularProcess run(
-        {"run", std::string(GRANULAR_SOURCE_DIR) + "/assets/scenes/silo.toml", "--out",
+        {"run", std::string(GRANULAR_SOURCE_DIR) + "/tests/scenes/run-figures-silo.toml", "--out",
          (root_ / "silo").string(), "--quiet", "--figures", "--checkpoint-every", "0"},
         root_ / "run.stderr");
     status_ = run.wait();
