@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <functional>
 
+#include "contact_constants.hpp"
 #include "granular/network_frequency.hpp"
 #include "granular/network_step.hpp"
 
@@ -28,6 +29,10 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
                           const std::function<void(const NetworkContact&)>& visit);
 /// With `enough`, the sweeps stop as soon as it holds for the bound so far (every sweep's bound
 /// is an upper bound: stopping early only gives away tightness that was not needed).
+/// A network contact's springs and dashpots on its modes (contact_linearisation.hpp), with the
+/// relative rotation's inertia of its bodies.
+LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
+                                const ContactConstants& constants, unsigned optional);
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);

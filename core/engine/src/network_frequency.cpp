@@ -217,6 +217,21 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
   }
 }
 
+LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
+                                const ContactConstants& constants, unsigned optional) {
+  const Particles& p = s.particles;
+  const bool wall = n.j == n.i;
+  LinearContact linear;
+  linear.radius = n.reduced;
+  linear.mass = n.mass;
+  linear.overlap = std::max(n.overlap, 0.0);
+  const double ii = 1.4 * p.mass[n.i] * p.radius[n.i] * p.radius[n.i];  // I + m R²
+  const double ij = wall ? 0.0 : 1.4 * p.mass[n.j] * p.radius[n.j] * p.radius[n.j];
+  linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
+  lineariseContact(constants, s.frictional, optional, linear);
+  return linear;
+}
+
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough) {
   const Particles& p = s.particles;
@@ -243,14 +258,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     const bool wall = j == i;
     out.fastestApproach = std::max(out.fastestApproach, n.approach);
     (n.touching ? out.contacts : out.approaching) += mine(i) ? 1 : 0;
-    LinearContact linear;
-    linear.radius = n.reduced;
-    linear.mass = n.mass;
-    linear.overlap = std::max(h, 0.0);
-    const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
-    const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-    linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
-    lineariseContact(constants, s.frictional, optional, linear);
+    LinearContact linear = linearisedContact(s, n, constants, optional);
     // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
     // far stands in for it.
     if (!(linear.stiffness.normal > 0.0)) linear.leastDampingRatio(out.smallestDampingRatio);

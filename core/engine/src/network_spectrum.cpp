@@ -252,14 +252,7 @@ NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
   visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
     const std::size_t i = n.i, j = n.j;
     const bool wall = j == i;
-    LinearContact linear;
-    linear.radius = n.reduced;
-    linear.mass = n.mass;
-    linear.overlap = std::max(n.overlap, 0.0);
-    const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];  // I + m R²
-    const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-    linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
-    lineariseContact(constants, s.frictional, optional, linear);
+    const LinearContact linear = linearisedContact(s, n, constants, optional);
     LinearLink l;
     l.i = std::uint32_t(i);
     l.j = std::uint32_t(j);
