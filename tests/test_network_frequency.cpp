@@ -349,6 +349,7 @@ TEST(NetworkSpectrum, ContactsAboutToTouchCountWithTheLookaheadAtTheirClosedForm
     const NetworkSpectrum ahead = networkSpectrumEstimate(c.sim, 1e-3);
     EXPECT_EQ(ahead.contacts, 0u);
     EXPECT_EQ(ahead.approaching, 1u);
+    EXPECT_GT(ahead.products, 0);  // estimated, not the bound's value handed on
     EXPECT_NEAR(ahead.omegaMax, c.omega, 1e-9 * c.omega);
     EXPECT_GE(networkFrequencyBound(c.sim, 32, 1e-3).omegaMax, ahead.omegaMax);
   }

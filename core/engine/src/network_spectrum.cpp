@@ -239,7 +239,7 @@ NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
   NetworkSpectrum out;
   out.contacts = bound.contacts;
   out.approaching = bound.approaching;
-  if (s.split.domains || bound.contacts == 0) {
+  if (s.split.domains || bound.contacts + bound.approaching == 0) {
     out.omegaMax = bound.omegaMax;
     out.dampingRate = bound.dampingRate;
     return out;
