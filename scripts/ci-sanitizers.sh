@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The sanitizer half of CI (.ci/run calls it after the release build and tests):
-#   1. ASan + UBSan (preset "sanitize", GCC): build, then the whole test suite;
-#   2. ThreadSanitizer (preset "tsan", clang + LLVM's libomp + Archer): build, then the tests
-#      that the tsan test preset selects, on 2 OpenMP threads (CMakePresets.json says which);
+#   1. ASan + UBSan (preset "sanitize", clang): build, then the tests that the sanitize test
+#      preset selects;
+#   2. ThreadSanitizer (preset "tsan", clang + LLVM's libomp + Archer): build the test files
+#      whose code runs on threads, then the tests that the tsan test preset selects, on 2 OpenMP
+#      threads (CMakePresets.json and tests/CMakeLists.txt say which);
 # The fuzzers (scripts/fuzz.sh) are not part of CI: their build no longer fits its 30 minutes;
 # run them after touching a loader (docs/RELIABILITY.md).
 # Runs every part even after a failure; prints the wall time of each part and the total, and
@@ -13,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-for tool in gcc clang++ cmake ctest; do
+for tool in clang clang++ cmake ctest; do
   if ! command -v "$tool" >/dev/null 2>&1; then
     echo "ci-sanitizers: $tool not found; run scripts/install-deps.sh first" >&2
     exit 1
