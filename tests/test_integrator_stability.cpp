@@ -37,15 +37,15 @@ TEST(IntegratorStability, UndampedVerletIsStableUpToOmegaDtOfTwo) {
   EXPECT_NEAR(spectralRadius(Integrator::VelocityVerlet, 1.0, 0.0), 1.0, 1e-12);
 }
 
-TEST(IntegratorStability, DampingShrinksVerletsInterval) {
+TEST(IntegratorStability, DampingShrinksVerletsIntervalAsTheClosedFormSays) {
+  // With the dashpot at the half-step velocity, p = Δt v_½ and x map by [[1, 1], [−w², 1 − c −
+  // w²]] (w = ω Δt, c = 2ζw): det 1 − c, trace 2 − c − w², and the Jury conditions give
+  // w < 2 (√(ζ² + 1) − ζ): strongly damped, the dashpot's own limit 2ζω Δt → 2.
   double previous = 2.0;
   for (double zeta : {0.1, 0.3, 0.5, 1.0, 2.0}) {
     const double limit = stableLimit(Integrator::VelocityVerlet, zeta);
     EXPECT_LT(limit, previous) << zeta;
-    // Strongly damped, the dashpot's rate 2ζω sets it: 2ζω Δt just under 1.
-    if (zeta >= 1.0) {
-      EXPECT_NEAR(2.0 * zeta * limit, 0.96, 0.03) << zeta;
-    }
+    EXPECT_NEAR(limit, 2.0 * (std::sqrt(zeta * zeta + 1.0) - zeta), 2e-3) << zeta;
     previous = limit;
   }
 }

@@ -98,8 +98,9 @@ TEST(NetworkStep, GearAtItsNetworkStepStaysWithinItsGrowthBudget) {
 TEST(NetworkStep, ASettledDampedBedKeepsItsEnergyBelowItsNetworkStepAndBreaksFarAboveIt) {
   // 27 frictional spheres settled on a floor (the paper's damping), then held at a fixed
   // Verlet step. At 0.95 × the network's step for 10⁵ steps the bed comes to rest and stays:
-  // the ledger's total moves only while the last motion (≈ 5·10⁻⁴ J of kinetic energy) is
-  // dissipated, by the trapezoid rule's error on it, and not at all over the 9·10⁴ steps after
+  // the ledger's total moves only while the last motion (≈ 10⁻⁴ J of kinetic energy) is
+  // dissipated, by the trapezoid rule's error on it (a fraction of that energy: the dashpots
+  // act at the half-step velocity, first order), and not at all over the 9·10⁴ steps after
   // (it would grow if a mode were unstable). At 3 × the step, beyond the exact damped limit of
   // the linearised bed (1.4–2.1 × the step, test_network_frequency.cpp), the bed blows up. On a
   // bed the bound is not tight, so 1.2 × still holds: the chain above shows the sharp edge.
@@ -152,7 +153,7 @@ TEST(NetworkStep, ASettledDampedBedKeepsItsEnergyBelowItsNetworkStepAndBreaksFar
   };
   const Hold below = hold(0.95, 100000);
   EXPECT_FALSE(below.broke);
-  EXPECT_LT(below.transient, 0.1 * kinetic);
+  EXPECT_LT(below.transient, 0.25 * kinetic);
   EXPECT_LT(below.after, 1e-9 * settleWork);
   EXPECT_TRUE(hold(3.0, 20000).broke);
 }

@@ -103,8 +103,9 @@ TEST(ParticleFields, NamesAreUniqueAndARecordHoldsEveryValueField) {
     }
   });
   EXPECT_EQ(recordDoubles(), values);
-  // The ghosts' message, sent every step: position, velocity and angular velocity alone.
-  EXPECT_EQ(ghostDoubles(), 9u);
+  // The ghosts' message, sent every step: position, velocity, angular velocity and the two
+  // accelerations (Verlet's powers' lead) alone.
+  EXPECT_EQ(ghostDoubles(), 15u);
 }
 
 TEST(ParticleFields, TheCheckpointHoldsEachHeldFieldOncePerParticle) {

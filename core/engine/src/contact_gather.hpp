@@ -139,10 +139,55 @@ inline void loadSpring(const double* record, ContactChunk& c, std::size_t e) {
   }
 }
 
-/// Completes the m picked pairs in the chunk with masses, velocities and springs (their
-/// geometry is computed next, by the kernel). `springOf(e)` gives entry e's stored spring.
+/// The powers' lead of a force pass (ContactChunk::ux). Verlet's force pass reads the
+/// half-step velocities v_½ = v + (Δt/2) a; the velocity its forces work on over the step is
+/// v + Δt a = v_½ + (Δt/2) a to O(Δt²), a the accelerations of the step before (Derivatives::d2),
+/// so its powers take that lead. None for Gear, whose forces act at the predicted velocity
+/// itself, nor between steps (the measuring pass reads the step's own velocities).
+struct PowerLead {
+  const Vec3* accel = nullptr;      ///< the particles' a [m/s²]; null: no lead
+  const Vec3* spinAccel = nullptr;  ///< their dω/dt [rad/s²] (friction)
+  double half = 0.0;                ///< Δt/2 [s]
+};
+
+/// The lead of a force pass over Δt on the state s: Verlet's, where the pass advances (Δt > 0).
+inline PowerLead powerLeadOf(const SimulationState& s, double dt) {
+  if (s.config.integrator != Integrator::VelocityVerlet || !(dt > 0.0)) return {};
+  return {s.translation.d2.data(), s.frictional ? s.rotation.d2.data() : nullptr, 0.5 * dt};
+}
+
+/// Writes the lead of particle i (relative to j's, or to a wall's with j < 0) into entry e:
+/// the centres' into ux..uz, and with friction the spins' into uix..ujz.
+template <bool kFriction>
+[[gnu::always_inline]] inline void loadLead(const PowerLead& lead, ContactChunk& c, std::size_t e,
+                                            std::uint32_t i, std::int64_t j) {
+  Vec3 u = Vec3::Zero(), ui = Vec3::Zero(), uj = Vec3::Zero();
+  if (lead.accel) {
+    u = lead.half * (j >= 0 ? Vec3(lead.accel[i] - lead.accel[j]) : lead.accel[i]);
+    if constexpr (kFriction) {
+      ui = lead.half * lead.spinAccel[i];
+      if (j >= 0) uj = lead.half * lead.spinAccel[j];
+    }
+  }
+  c.ux[e] = u.x();
+  c.uy[e] = u.y();
+  c.uz[e] = u.z();
+  if constexpr (kFriction) {
+    c.uix[e] = ui.x();
+    c.uiy[e] = ui.y();
+    c.uiz[e] = ui.z();
+    c.ujx[e] = uj.x();
+    c.ujy[e] = uj.y();
+    c.ujz[e] = uj.z();
+  }
+}
+
+/// Completes the m picked pairs in the chunk with masses, velocities, the powers' lead and
+/// springs (their geometry is computed next, by the kernel). `springOf(e)` gives entry e's
+/// stored spring.
 template <bool kFriction, unsigned kOptional, class SpringOf>
-void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& springOf) {
+void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::size_t m,
+               SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t i = c.first[e], j = c.second[e];
     const Vec3 v = p.velocity[i] - p.velocity[j];
@@ -151,6 +196,7 @@ void loadPairs(const Particles& p, ContactChunk& c, std::size_t m, SpringOf&& sp
     c.vx[e] = v.x();
     c.vy[e] = v.y();
     c.vz[e] = v.z();
+    loadLead<kFriction>(lead, c, e, i, j);
     if constexpr (kFriction) {
       const Vec3& wi = p.angularVelocity[i];
       const Vec3& wj = p.angularVelocity[j];
@@ -198,7 +244,7 @@ inline const ContactHistory kNoHistory{};
 /// wall's as j's: infinite radius and mass, no spin.
 template <bool kFriction, unsigned kOptional>
 void loadWallContacts(const Particles& p, const NeighbourList& list, const std::vector<Wall>& walls,
-                      ContactChunk& c, std::size_t m) {
+                      const PowerLead& lead, ContactChunk& c, std::size_t m) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t k = c.slot[e], w = c.wall[e];
     const Wall& wall = walls[w];
@@ -228,7 +274,12 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
     c.vx[e] = v.x();
     c.vy[e] = v.y();
     c.vz[e] = v.z();
+    loadLead<kFriction>(lead, c, e, i, -1);  // a wall moves at its prescribed velocity
     if constexpr (kFriction) {
+      const Vec3 turn = arm * Vec3(c.uix[e], c.uiy[e], c.uiz[e]).cross(n);  // the arm's lead
+      c.ux[e] += turn.x();
+      c.uy[e] += turn.y();
+      c.uz[e] += turn.z();
       const Vec3 contactVelocity = v + arm * p.angularVelocity[i].cross(n);
       c.cx[e] = contactVelocity.x();
       c.cy[e] = contactVelocity.y();

@@ -77,6 +77,13 @@ struct ContactChunk {
   alignas(64) double radius[kChunk], mass[kChunk];        ///< R_ij [m], m_ij [kg]
   alignas(64) double vx[kChunk], vy[kChunk], vz[kChunk];  ///< v_i - v_other [m/s]
   alignas(64) double cx[kChunk], cy[kChunk], cz[kChunk];  ///< contact-point velocity [m/s]
+  // The powers' lead (contact_gather.hpp, PowerLead): the velocity a force works on over its
+  // step is the one the law reads plus this. Pairs: the gather loads the centres' lead
+  // (Δt/2)(a_i − a_j) and, with friction, the spins' (Δt/2) α_i and α_j; the geometry then adds
+  // the arms' part, as it does to v. Walls: loaded as the contact point's lead.
+  alignas(64) double ux[kChunk], uy[kChunk], uz[kChunk];     ///< contact point's lead [m/s]
+  alignas(64) double uix[kChunk], uiy[kChunk], uiz[kChunk];  ///< i's spin's lead [rad/s]
+  alignas(64) double ujx[kChunk], ujy[kChunk], ujz[kChunk];  ///< the other's spin's lead [rad/s]
   // The contact's history, every term's slots (ContactHistory): the stored one in, the advanced
   // one out.
   alignas(64) double historyRows[kHistorySlots][kChunk];
@@ -145,6 +152,12 @@ template <bool kFriction>
       c.cx[k] = c.vx[k] + (ay * nz - az * ny);
       c.cy[k] = c.vy[k] + (az * nx - ax * nz);
       c.cz[k] = c.vz[k] + (ax * ny - ay * nx);
+      const double bx = armI * c.uix[k] + armJ * c.ujx[k];
+      const double by = armI * c.uiy[k] + armJ * c.ujy[k];
+      const double bz = armI * c.uiz[k] + armJ * c.ujz[k];
+      c.ux[k] += by * nz - bz * ny;
+      c.uy[k] += bz * nx - bx * nz;
+      c.uz[k] += bx * ny - by * nx;
     }
   }
 }

@@ -587,13 +587,19 @@ void refreshSplitGhosts(SimulationState& s) {
   exchangeGhosts(
       s, ghostDoubles(),
       [&](std::uint32_t i, double* v) {
-        forEachGhostField(
-            [&](const auto& field, std::size_t at) { storeDoubles(v + at, arrayOf(field, s)[i]); });
+        forEachGhostField([&](const auto& field, std::size_t at) {
+          using Entry = std::remove_cvref_t<decltype(field)>;
+          if (holds(s, field.needs)) {
+            storeDoubles(v + at, arrayOf(field, s)[i]);
+          } else {
+            std::fill_n(v + at, Entry::doubles, 0.0);
+          }
+        });
       },
       [&](std::uint32_t g, const double* v) {
         forEachGhostField([&](const auto& field, std::size_t at) {
           using Value = typename std::remove_cvref_t<decltype(field)>::Value;
-          arrayOf(field, s)[g] = loadDoubles<Value>(v + at);
+          if (holds(s, field.needs)) arrayOf(field, s)[g] = loadDoubles<Value>(v + at);
         });
       });
 }

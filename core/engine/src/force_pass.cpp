@@ -61,7 +61,8 @@ class PlannedPass {
         walls_(s.walls.size()),
         anyMesh_(std::any_of(s.walls.begin(), s.walls.end(),
                              [](const Wall& w) { return w.shape == WallShape::Mesh; })),
-        aside_(aside) {}
+        aside_(aside),
+        lead_(powerLeadOf(s, dt)) {}
 
   void ownedPhase(std::size_t t, ContactChunk& chunk) {
     const std::size_t ownBegin = list_.blockParticle[plan_.threadBlock[t]];
@@ -111,9 +112,9 @@ class PlannedPass {
           m += pickPair<kReach>(p_, list_, plan_.crossingFirst[q], plan_.crossing[q], c, m,
                                 constants_.reach);
         }
-        loadPairs<kFriction, kOptional>(p_, c, m, [&](std::size_t e) -> const ContactHistory& {
-          return scratch_.crossingSpring[at[e]];
-        });
+        loadPairs<kFriction, kOptional>(
+            p_, lead_, c, m,
+            [&](std::size_t e) -> const ContactHistory& { return scratch_.crossingSpring[at[e]]; });
         return m;
       };
       auto scatter = [&](const ContactChunk& c, std::size_t m) {
@@ -176,11 +177,11 @@ class PlannedPass {
           *heldWord++ = heldNow;
           springs.read += read;
           loadPairs<kFriction, kOptional>(
-              p_, c, m, [&](std::size_t e) -> const double* { return spring[e]; });
+              p_, lead_, c, m, [&](std::size_t e) -> const double* { return spring[e]; });
         } else {
           m = pickTouchingPairs<kReach>(p_, list_, begin, count, rows, c, constants_.reach);
           loadPairs<kFriction, kOptional>(
-              p_, c, m, [](std::size_t) -> const ContactHistory& { return kNoSpring; });
+              p_, lead_, c, m, [](std::size_t) -> const ContactHistory& { return kNoSpring; });
         }
         return m;
       };
@@ -315,7 +316,7 @@ class PlannedPass {
   [[gnu::flatten]] void lawChunk(const ContactConstants& law, ContactChunk& chunk, std::size_t m,
                                  Sums& sums) {
     auto gather = [&](ContactChunk& c) {
-      loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, c, m);
+      loadWallContacts<kFriction, kOptional>(p_, list_, s_.walls, lead_, c, m);
       return m;
     };
     auto scatter = [&](const ContactChunk& c, std::size_t) {
@@ -376,6 +377,7 @@ class PlannedPass {
   const std::size_t walls_;
   const bool anyMesh_;
   std::vector<double>* const aside_;
+  const PowerLead lead_;  // the powers' lead (Verlet)
   std::size_t ownEnd_ = 0;
   std::vector<CandidateSpan> spans_;       // the candidates examined since the last wall chunk
   std::vector<MeshContact> meshContacts_;  // scratch of pickMeshContacts

@@ -102,20 +102,23 @@ template <bool kPositions, bool kCorrect, bool kPredict>
   return probe != 0.0 ? NotFinite::kCorrected : 0;
 }
 
-/// Velocity Verlet's two halves for one value. Drift: x += v Δt + a Δt²/2 (as two half kicks
-/// around the move), v += a Δt (the predicted velocity). Kick: v += (accel - a) Δt/2, a = accel.
+/// Velocity Verlet's two halves for one value, in the half-step form the peers use. Drift: the
+/// half kick v_½ = v + a Δt/2, then x += v_½ Δt; the velocity held between them is v_½, at which
+/// the force pass evaluates the dashpots and advances the springs (ξ then moves by exactly the
+/// drift's displacement). Kick: v = v_½ + accel Δt/2, a = accel. (With v held at the predicted
+/// v + a Δt instead, the dashpots act on a velocity a whole step ahead, and a damped network
+/// breaks at 14× the paper's step where this form holds to 16×: bench/RESULTS.md.)
 struct VerletSteps {
   double dt, half;
   explicit VerletSteps(double step) : dt(step), half(0.5 * step) {}
   template <bool kPositions>
   [[gnu::always_inline]] void drift(double& x, double& v, double a) const {
-    double vk = v + half * a;
+    const double vk = v + half * a;
     if constexpr (kPositions) x += dt * vk;
-    vk += half * a;
     v = vk;
   }
   [[gnu::always_inline]] void kick(double accel, double& v, double& a) const {
-    v += half * (accel - a);
+    v += half * accel;
     a = accel;
   }
 };

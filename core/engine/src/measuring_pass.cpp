@@ -30,8 +30,9 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
     auto gather = [&](ContactChunk& c) {
       const std::size_t m =
           pickTouchingPairs<kReach>(p, list, begin, count, rows, c, constants.reach);
-      loadPairs<kFriction, kOptional>(
-          p, c, m, [&](std::size_t e) -> ContactHistory { return springs->at(c.slot[e]); });
+      loadPairs<kFriction, kOptional>(p, PowerLead{}, c, m, [&](std::size_t e) -> ContactHistory {
+        return springs->at(c.slot[e]);
+      });
       return m;
     };
     auto scatter = [&](const ContactChunk& c, std::size_t m) {
@@ -77,7 +78,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
             m = pickMeshContacts<kReach>(p, list, s.walls[w], grid, w, begin, c, m, constants.reach,
                                          meshScratch);
           }
-          loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
+          loadWallContacts<kFriction, kOptional>(p, list, s.walls, PowerLead{}, c, m);
           return m;
         };
         throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(law, chunk, gather, scatter);
@@ -89,7 +90,7 @@ void measuringPass(const SimulationState& state, std::vector<Vec3>& force, Visit
       auto gather = [&](ContactChunk& c) {
         const std::size_t m = pickTouchingWallContacts<kReach>(p, list, s.walls[w], w, begin, count,
                                                                c, 0, constants.reach);
-        loadWallContacts<kFriction, kOptional>(p, list, s.walls, c, m);
+        loadWallContacts<kFriction, kOptional>(p, list, s.walls, PowerLead{}, c, m);
         return m;
       };
       throughLaw<ChunkOf::Walls, kFriction, kLaw, kOptional, false>(law, chunk, gather, scatter);

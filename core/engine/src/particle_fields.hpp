@@ -22,7 +22,8 @@ namespace granular {
 
 /// When the state holds a field (its array has one entry per particle; otherwise none): the
 /// conditions all hold. kGhost is not a condition: the field travels to the ghosts after each
-/// prediction (refreshSplitGhosts), as the force pass reads it there.
+/// prediction (refreshSplitGhosts), as the force pass reads it there (the accelerations: Verlet's
+/// powers' lead, contact_gather.hpp), where the run holds it.
 enum FieldNeeds : unsigned {
   kAlways = 0,
   kFriction = 1U << 0,  ///< a frictional run (rotations)
@@ -113,11 +114,11 @@ inline constexpr auto kParticleFields = std::tuple{
 inline constexpr auto kMotionFields = std::tuple{
     field<kAlways>("force", "N", &SimulationState::force),
     field<kFriction>("torque", "N m", &SimulationState::torque),
-    field<kAlways>("acceleration", "m/s^2", &SimulationState::translation, &Derivatives::d2),
+    field<kGhost>("acceleration", "m/s^2", &SimulationState::translation, &Derivatives::d2),
     field<kGear5>("jerk", "m/s^3", &SimulationState::translation, &Derivatives::d3),
     field<kGear5>("snap", "m/s^4", &SimulationState::translation, &Derivatives::d4),
     field<kGear5>("crackle", "m/s^5", &SimulationState::translation, &Derivatives::d5),
-    field<kFriction>("angular acceleration", "rad/s^2", &SimulationState::rotation, &Derivatives::d2),
+    field<kFriction | kGhost>("angular acceleration", "rad/s^2", &SimulationState::rotation, &Derivatives::d2),
     field<kFriction | kGear5>("angular jerk", "rad/s^3", &SimulationState::rotation, &Derivatives::d3),
     field<kFriction | kGear5>("angular snap", "rad/s^4", &SimulationState::rotation, &Derivatives::d4),
     field<kFriction | kGear5>("angular crackle", "rad/s^5", &SimulationState::rotation, &Derivatives::d5),

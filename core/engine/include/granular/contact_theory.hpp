@@ -80,10 +80,10 @@ inline constexpr double kMaxStepFractionGear5 = 0.02;
 
 /// The tangential dashpot F_t = −γt m_ij v_t of a sticking contact is an explicit damper, and
 /// each integrator keeps a damper x'' = −λ x' stable only below a largest λΔt: Gear5 (with
-/// c0 = 3/20) 0.1634, velocity Verlet (dashpots at the predicted velocity) exactly 1. Those are
+/// c0 = 3/20) 0.1634, velocity Verlet (dashpots at the half-step velocity) exactly 2. Those are
 /// the roots of the schemes' amplification matrices on x'' = −λ x' (docs/physics.md §2.7).
 inline constexpr double kDamperStabilityGear5 = 0.163;
-inline constexpr double kDamperStabilityVerlet = 1.0;
+inline constexpr double kDamperStabilityVerlet = 2.0;
 /// One contact's dashpot slows the contact-point velocity at the rate
 /// γt m_ij (1/m_i + 1/m_j + a_i²/I_i + a_j²/I_j): translation and rotation of both spheres. For
 /// solid spheres (I = (2/5) m R², lever arm a ≈ R) a²/I = 5/(2m), so the rate is (7/2) γt for any

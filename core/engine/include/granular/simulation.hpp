@@ -23,7 +23,7 @@ namespace granular {
 /// Time integration scheme.
 enum class Integrator {
   Gear5,           ///< Gear's 5th-order (6-value) predictor-corrector, the paper's choice
-  VelocityVerlet,  ///< velocity Verlet, forces evaluated with the predicted velocity
+  VelocityVerlet,  ///< velocity Verlet, forces evaluated at the half-step velocity
 };
 
 /// The largest time step the engine accepts for this integrator and stiffest contact [s]:

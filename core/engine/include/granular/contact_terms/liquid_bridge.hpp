@@ -100,7 +100,7 @@ struct LiquidBridge {
     lane.normal += -pull;
     // Its power on the bodies: the force on i, pull n, on v_i − v_other, pull ḣ.
     const double rate = c.vx[e] * lane.nx + c.vy[e] * lane.ny + c.vz[e] * lane.nz;  // ḣ
-    c.template energy<LiquidBridge>(1)[e] = pull * rate;
+    c.template energy<LiquidBridge>(1)[e] = pull * (rate + leadRate(c, e, lane));
   }
 
   /// Willett's pull [N] of a bridge between bodies of radius R = 2 R_ij at the gap S ≥ 0.

@@ -51,19 +51,19 @@ struct NormalDamping {
                                            ContactLane& lane) {
     const Constants& own = k.template of<NormalDamping>();
     const double rate = c.vx[e] * lane.nx + c.vy[e] * lane.ny + c.vz[e] * lane.nz;  // ḣ
-    double power;
-    force(own.damping, own.floor, lane.mass, lane.elastic, rate, lane.normal, power);
-    c.template energy<NormalDamping>(0)[e] = power;
+    const double elastic = lane.elastic;
+    force(own.damping, own.floor, lane.mass, rate, lane.normal);
+    c.template energy<NormalDamping>(0)[e] =
+        (lane.normal - elastic) * (rate + leadRate(c, e, lane));
   }
 
   /// The normal force so far (the elastic force F_e) with the dashpot, floored:
-  /// F_n = max(floor, F_e + γn m ḣ) (floor 0, or −∞ with a pull allowed), and the power the
-  /// dashpot takes, (F_n − F_e) ḣ. Terms that may pull (mayPull) act after the floor.
-  [[gnu::always_inline]] static void force(double damping, double floor, double mass,
-                                           double elastic, double rate, double& normal,
-                                           double& power) {
+  /// F_n = max(floor, F_e + γn m ḣ) (floor 0, or −∞ with a pull allowed); the dashpot's part
+  /// is F_n − F_e, and its power that times the rate. Terms that may pull (mayPull) act after
+  /// the floor.
+  [[gnu::always_inline]] static void force(double damping, double floor, double mass, double rate,
+                                           double& normal) {
     normal = std::max(floor, normal + damping * mass * rate);
-    power = (normal - elastic) * rate;
   }
 
   /// Its dashpot in the network's linearisation, and the damping ratio of the normal mode.

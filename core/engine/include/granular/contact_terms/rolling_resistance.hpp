@@ -144,9 +144,14 @@ struct RollingResistance {
     lane.qx += qx;
     lane.qy += qy;
     lane.qz += qz;
+    // The powers on the relative spin plus its lead (term.hpp).
+    const double lx = wx + (c.uix[e] - c.ujx[e]), ly = wy + (c.uiy[e] - c.ujy[e]),
+                 lz = wz + (c.uiz[e] - c.ujz[e]);
+    const double ln = lx * nx + ly * ny + lz * nz;
     c.template energy<RollingResistance>(0)[e] = 0.5 * kr * (tx * tx + ty * ty + tz * tz);
-    c.template energy<RollingResistance>(1)[e] = dashpot * (ux * ux + uy * uy + uz * uz);
-    c.template energy<RollingResistance>(4)[e] = qx * wx + qy * wy + qz * wz;
+    c.template energy<RollingResistance>(1)[e] =
+        dashpot * (ux * (lx - ln * nx) + uy * (ly - ln * ny) + uz * (lz - ln * nz));
+    c.template energy<RollingResistance>(4)[e] = qx * lx + qy * ly + qz * lz;
     if constexpr (kAdvance) {
       txs[e] = tx;
       tys[e] = ty;

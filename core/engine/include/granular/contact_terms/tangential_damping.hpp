@@ -18,7 +18,7 @@ struct TangentialDamping {
   static constexpr auto parameters = std::tuple{
       NumberParameter<Parameters>{"tangential_damping", "γt", "1/s", ValueRange::atLeast(0),
                                   "tangential viscous damping; with friction at most "
-                                  "0.163/(21 Δt) (gear5) or 1/(21 Δt) (verlet)",
+                                  "0.163/(21 Δt) (gear5) or 2/(21 Δt) (verlet)",
                                   &Parameters::tangentialDamping},
   };
   static constexpr std::span<const std::string_view> history{};
@@ -28,7 +28,7 @@ struct TangentialDamping {
   static constexpr bool needsFriction = true;
   static constexpr std::string_view stableStep =
       "γt <= z/(21 Δt): a sticking contact's dashpot acts at 3.5 γt, up to 6 at once, and the "
-      "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 1 verlet)";
+      "integrator holds a damper only for rate·Δt <= z (0.163 gear5, 2 verlet)";
 
   struct Constants {
     double damping;  ///< γt [1/s]
@@ -38,9 +38,11 @@ struct TangentialDamping {
   template <NormalLaw kLaw, bool kAdvance, class ModelConstants, class Chunk>
   [[gnu::always_inline]] static void first(const ModelConstants& k, Chunk& c, std::size_t e,
                                            ContactLane& lane) {
+    double ux, uy, uz;  // the powers' lead
+    leadTangential(c, e, lane, ux, uy, uz);
     c.template energy<TangentialDamping>(0)[e] =
         addForce(k.template of<TangentialDamping>().damping, lane.mass, lane.vtx, lane.vty,
-                 lane.vtz, lane.tx, lane.ty, lane.tz);
+                 lane.vtz, ux, uy, uz, lane.tx, lane.ty, lane.tz);
   }
   /// A sliding contact's dashpot is part of the capped force: its power is in the slip.
   template <bool kAdvance, class Constants, class Chunk>
@@ -62,12 +64,13 @@ struct TangentialDamping {
 
   /// Adds the dashpot −γt m v_t to the trial force t; returns the power it takes, γt m |v_t|².
   [[gnu::always_inline]] static double addForce(double damping, double mass, double vtx, double vty,
-                                                double vtz, double& tx, double& ty, double& tz) {
+                                                double vtz, double ux, double uy, double uz,
+                                                double& tx, double& ty, double& tz) {
     const double c = damping * mass;
     tx -= c * vtx;
     ty -= c * vty;
     tz -= c * vtz;
-    return c * (vtx * vtx + vty * vty + vtz * vtz);
+    return c * (vtx * (vtx + ux) + vty * (vty + uy) + vtz * (vtz + uz));
   }
 };
 

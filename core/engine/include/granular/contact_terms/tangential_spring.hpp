@@ -147,8 +147,10 @@ struct TangentialSpring {
     const double kt = c.template between<TangentialSpring>(0)[e];
     const double limit = c.template between<TangentialSpring>(1)[e];
     lane.sliding = cap(limit, kt, lane.tx, lane.ty, lane.tz, sx, sy, sz);
+    double ux, uy, uz;  // the powers' lead
+    leadTangential(c, e, lane, ux, uy, uz);
     c.template energy<TangentialSpring>(3)[e] =
-        lane.tx * lane.vtx + lane.ty * lane.vty + lane.tz * lane.vtz;
+        lane.tx * (lane.vtx + ux) + lane.ty * (lane.vty + uy) + lane.tz * (lane.vtz + uz);
     c.template energy<TangentialSpring>(0)[e] = 0.5 * kt * (sx * sx + sy * sy + sz * sz);
     if constexpr (kAdvance) {
       sxs[e] = sx;

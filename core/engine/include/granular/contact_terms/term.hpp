@@ -36,6 +36,10 @@
 ///   - optionally `pureTorque`: it adds a couple (the build then carries the q rows), and
 ///     `readsBodies`: it reads the bodies' own radii, masses and spins (the chunk's raw rows;
 ///     a wall is a body of infinite radius and mass without spin);
+///   - its energy accounts' powers (Dissipated, Work) on the velocity the force works on over
+///     its step: the velocity the law reads plus the powers' lead (leadRate, leadTangential:
+///     Verlet's forces act from a half-step velocity, and a power taken there would make the
+///     ledger first order);
 ///   - optionally `mayPull`: its normal force may be attractive. It is listed after the normal
 ///     dashpot, whose no-pull floor holds for the contact's own repulsion only;
 ///   - optionally `reach(const Parameters&)`: how far beyond touch it acts [m] (a term without
@@ -47,6 +51,7 @@
 /// Everything that lists material parameters (the scene loader, the one validation, the state
 /// checks, the checkpoint, the scene fingerprint, the GUI, the docs test) reads these
 /// declarations through granular/contact_model.hpp.
+#include <cstddef>
 #include <span>
 #include <string_view>
 
@@ -75,6 +80,25 @@ struct ContactLane {
   double qx = -0.0, qy = -0.0, qz = -0.0;  ///< the couple on i, summed [N m]
   bool sliding = false;                    ///< the Coulomb cap holds (second loop)
 };
+
+/// The lead of entry e's normal rate ḣ for its powers (ContactChunk::ux: the velocity a force
+/// works on over its step is the one the law reads plus the lead; zero for Gear and between
+/// steps) [m/s].
+template <class Chunk>
+[[gnu::always_inline]] inline double leadRate(const Chunk& c, std::size_t e,
+                                              const ContactLane& lane) {
+  return c.ux[e] * lane.nx + c.uy[e] * lane.ny + c.uz[e] * lane.nz;
+}
+/// The same lead on the contact points' tangential velocity [m/s].
+template <class Chunk>
+[[gnu::always_inline]] inline void leadTangential(const Chunk& c, std::size_t e,
+                                                  const ContactLane& lane, double& x, double& y,
+                                                  double& z) {
+  const double rate = leadRate(c, e, lane);
+  x = c.ux[e] - rate * lane.nx;
+  y = c.uy[e] - rate * lane.ny;
+  z = c.uz[e] - rate * lane.nz;
+}
 
 /// One contact's modes of relative motion: normal, tangential at the contact points, rolling.
 struct ContactModes {
