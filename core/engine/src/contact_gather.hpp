@@ -3,6 +3,7 @@
 /// the force pass and the measuring pass run for pairs and walls alike (throughLaw), and its
 /// stages: picking the touching candidates, loading the bodies' values and stored histories,
 /// and reading the results back.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -156,18 +157,49 @@ inline PowerLead powerLeadOf(const SimulationState& s, double dt) {
   return {s.translation.d2.data(), s.frictional ? s.rotation.d2.data() : nullptr, 0.5 * dt};
 }
 
-/// Writes the lead of particle i (relative to j's, or to a wall's with j < 0) into entry e:
-/// the centres' into ux..uz, and with friction the spins' into uix..ujz.
+/// Writes the m picked pairs' leads into the chunk: the centres' (Δt/2)(a_i − a_j) into ux..uz
+/// and, with friction, the spins' (Δt/2) α_i and α_j into uix..ujz (zero without a lead). A loop
+/// of its own after loadPairs' main one, which then compiles as it does without it.
 template <bool kFriction>
-[[gnu::always_inline]] inline void loadLead(const PowerLead& lead, ContactChunk& c, std::size_t e,
-                                            std::uint32_t i, std::int64_t j) {
-  Vec3 u = Vec3::Zero(), ui = Vec3::Zero(), uj = Vec3::Zero();
-  if (lead.accel) {
-    u = lead.half * (j >= 0 ? Vec3(lead.accel[i] - lead.accel[j]) : lead.accel[i]);
+void loadPairLeads(const PowerLead& lead, ContactChunk& c, std::size_t m) {
+  if (!lead.accel) {
+    std::fill_n(c.ux, m, 0.0);
+    std::fill_n(c.uy, m, 0.0);
+    std::fill_n(c.uz, m, 0.0);
     if constexpr (kFriction) {
-      ui = lead.half * lead.spinAccel[i];
-      if (j >= 0) uj = lead.half * lead.spinAccel[j];
+      for (double* row : {c.uix, c.uiy, c.uiz, c.ujx, c.ujy, c.ujz}) std::fill_n(row, m, 0.0);
     }
+    return;
+  }
+  const double half = lead.half;
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::uint32_t i = c.first[e], j = c.second[e];
+    const Vec3 u = half * (lead.accel[i] - lead.accel[j]);
+    c.ux[e] = u.x();
+    c.uy[e] = u.y();
+    c.uz[e] = u.z();
+    if constexpr (kFriction) {
+      const Vec3 ui = half * lead.spinAccel[i], uj = half * lead.spinAccel[j];
+      c.uix[e] = ui.x();
+      c.uiy[e] = ui.y();
+      c.uiz[e] = ui.z();
+      c.ujx[e] = uj.x();
+      c.ujy[e] = uj.y();
+      c.ujz[e] = uj.z();
+    }
+  }
+}
+
+/// Writes the lead of particle i against a wall (which moves at its prescribed velocity) into
+/// entry e: the centre's into ux..uz and, with friction, the spin's into uix..uiz (the wall's,
+/// ujx..ujz, zero).
+template <bool kFriction>
+[[gnu::always_inline]] inline void loadWallLead(const PowerLead& lead, ContactChunk& c,
+                                                std::size_t e, std::uint32_t i) {
+  Vec3 u = Vec3::Zero(), ui = Vec3::Zero();
+  if (lead.accel) {
+    u = lead.half * lead.accel[i];
+    if constexpr (kFriction) ui = lead.half * lead.spinAccel[i];
   }
   c.ux[e] = u.x();
   c.uy[e] = u.y();
@@ -176,9 +208,7 @@ template <bool kFriction>
     c.uix[e] = ui.x();
     c.uiy[e] = ui.y();
     c.uiz[e] = ui.z();
-    c.ujx[e] = uj.x();
-    c.ujy[e] = uj.y();
-    c.ujz[e] = uj.z();
+    c.ujx[e] = c.ujy[e] = c.ujz[e] = 0.0;
   }
 }
 
@@ -196,7 +226,6 @@ void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::
     c.vx[e] = v.x();
     c.vy[e] = v.y();
     c.vz[e] = v.z();
-    loadLead<kFriction>(lead, c, e, i, j);
     if constexpr (kFriction) {
       const Vec3& wi = p.angularVelocity[i];
       const Vec3& wj = p.angularVelocity[j];
@@ -209,6 +238,7 @@ void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::
       loadSpring<kFriction, kOptional>(springOf(e), c, e);
     }
   }
+  loadPairLeads<kFriction>(lead, c, m);
 }
 
 /// A shell's contact with the particle at x (radius r, velocity u): the normal n out of the
@@ -274,7 +304,7 @@ void loadWallContacts(const Particles& p, const NeighbourList& list, const std::
     c.vx[e] = v.x();
     c.vy[e] = v.y();
     c.vz[e] = v.z();
-    loadLead<kFriction>(lead, c, e, i, -1);  // a wall moves at its prescribed velocity
+    loadWallLead<kFriction>(lead, c, e, i);
     if constexpr (kFriction) {
       const Vec3 turn = arm * Vec3(c.uix[e], c.uiy[e], c.uiz[e]).cross(n);  // the arm's lead
       c.ux[e] += turn.x();

@@ -119,7 +119,8 @@ struct ContactChunk {
 };
 
 /// Pair geometry from the raw columns dx..mj of the picked pairs (and the angular velocities with
-/// friction; v is already v_i - v_j): n, h, lever arm, R_ij, m_ij, contact-point velocity.
+/// friction; v is already v_i - v_j): n, h, lever arm, R_ij, m_ij, contact-point velocity and,
+/// with friction, the arms' part of the powers' lead.
 /// Coincident centres have no direction: +z is used, so the particles are pushed apart along a
 /// defined axis instead of producing NaN.
 template <bool kFriction>
