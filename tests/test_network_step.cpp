@@ -103,7 +103,7 @@ TEST(NetworkStep, ASettledDampedBedKeepsItsEnergyBelowItsNetworkStepAndBreaksFar
   // act at the half-step velocity, first order), and not at all over the 9·10⁴ steps after
   // (it would grow if a mode were unstable). At 3 × the step, beyond the exact damped limit of
   // the linearised bed (1.15–1.32 × the step, test_network_frequency.cpp), the bed blows up. On a
-  // bed the bound is not tight, so 1.2 × still holds: the chain above shows the sharp edge.
+  // bed the bound is not tight: the chain above shows the sharp edge.
   SimulationConfig cfg;
   cfg.material.friction = 0.3;
   cfg.integrator = Integrator::VelocityVerlet;
