@@ -157,36 +157,33 @@ inline PowerLead powerLeadOf(const SimulationState& s, double dt) {
   return {s.translation.d2.data(), s.frictional ? s.rotation.d2.data() : nullptr, 0.5 * dt};
 }
 
-/// Writes the m picked pairs' leads into the chunk: the centres' (Δt/2)(a_i − a_j) into ux..uz
-/// and, with friction, the spins' (Δt/2) α_i and α_j into uix..ujz (zero without a lead). A loop
-/// of its own after loadPairs' main one, which then compiles as it does without it.
+/// Writes pair e's lead into the chunk: the centres' (Δt/2)(a_i − a_j) into ux..uz and, with
+/// friction, the spins' (Δt/2) α_i and α_j into uix..ujz.
 template <bool kFriction>
-void loadPairLeads(const PowerLead& lead, ContactChunk& c, std::size_t m) {
-  if (!lead.accel) {
-    std::fill_n(c.ux, m, 0.0);
-    std::fill_n(c.uy, m, 0.0);
-    std::fill_n(c.uz, m, 0.0);
-    if constexpr (kFriction) {
-      for (double* row : {c.uix, c.uiy, c.uiz, c.ujx, c.ujy, c.ujz}) std::fill_n(row, m, 0.0);
-    }
-    return;
-  }
+[[gnu::always_inline]] inline void loadPairLead(const PowerLead& lead, ContactChunk& c,
+                                                std::size_t e, std::uint32_t i, std::uint32_t j) {
   const double half = lead.half;
-  for (std::size_t e = 0; e < m; ++e) {
-    const std::uint32_t i = c.first[e], j = c.second[e];
-    const Vec3 u = half * (lead.accel[i] - lead.accel[j]);
-    c.ux[e] = u.x();
-    c.uy[e] = u.y();
-    c.uz[e] = u.z();
-    if constexpr (kFriction) {
-      const Vec3 ui = half * lead.spinAccel[i], uj = half * lead.spinAccel[j];
-      c.uix[e] = ui.x();
-      c.uiy[e] = ui.y();
-      c.uiz[e] = ui.z();
-      c.ujx[e] = uj.x();
-      c.ujy[e] = uj.y();
-      c.ujz[e] = uj.z();
-    }
+  const Vec3 u = half * (lead.accel[i] - lead.accel[j]);
+  c.ux[e] = u.x();
+  c.uy[e] = u.y();
+  c.uz[e] = u.z();
+  if constexpr (kFriction) {
+    const Vec3 ui = half * lead.spinAccel[i], uj = half * lead.spinAccel[j];
+    c.uix[e] = ui.x();
+    c.uiy[e] = ui.y();
+    c.uiz[e] = ui.z();
+    c.ujx[e] = uj.x();
+    c.ujy[e] = uj.y();
+    c.ujz[e] = uj.z();
+  }
+}
+
+/// No lead: zero for the m pairs.
+template <bool kFriction>
+void zeroPairLeads(ContactChunk& c, std::size_t m) {
+  for (double* row : {c.ux, c.uy, c.uz}) std::fill_n(row, m, 0.0);
+  if constexpr (kFriction) {
+    for (double* row : {c.uix, c.uiy, c.uiz, c.ujx, c.ujy, c.ujz}) std::fill_n(row, m, 0.0);
   }
 }
 
@@ -214,10 +211,10 @@ template <bool kFriction>
 
 /// Completes the m picked pairs in the chunk with masses, velocities, the powers' lead and
 /// springs (their geometry is computed next, by the kernel). `springOf(e)` gives entry e's
-/// stored spring.
-template <bool kFriction, unsigned kOptional, class SpringOf>
-void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::size_t m,
-               SpringOf&& springOf) {
+/// stored spring. kLead: the pass has a lead (else it is zero).
+template <bool kFriction, unsigned kOptional, bool kLead, class SpringOf>
+void loadPairsOf(const Particles& p, const PowerLead& lead, ContactChunk& c, std::size_t m,
+                 SpringOf&& springOf) {
   for (std::size_t e = 0; e < m; ++e) {
     const std::uint32_t i = c.first[e], j = c.second[e];
     const Vec3 v = p.velocity[i] - p.velocity[j];
@@ -226,6 +223,8 @@ void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::
     c.vx[e] = v.x();
     c.vy[e] = v.y();
     c.vz[e] = v.z();
+    // In the same iteration as the velocities: the loads of both bodies overlap.
+    if constexpr (kLead) loadPairLead<kFriction>(lead, c, e, i, j);
     if constexpr (kFriction) {
       const Vec3& wi = p.angularVelocity[i];
       const Vec3& wj = p.angularVelocity[j];
@@ -238,7 +237,17 @@ void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::
       loadSpring<kFriction, kOptional>(springOf(e), c, e);
     }
   }
-  loadPairLeads<kFriction>(lead, c, m);
+  if constexpr (!kLead) zeroPairLeads<kFriction>(c, m);
+}
+/// loadPairsOf with the lead where the pass has one (a test once, outside the loop).
+template <bool kFriction, unsigned kOptional, class SpringOf>
+void loadPairs(const Particles& p, const PowerLead& lead, ContactChunk& c, std::size_t m,
+               SpringOf&& springOf) {
+  if (lead.accel) {
+    loadPairsOf<kFriction, kOptional, true>(p, lead, c, m, springOf);
+  } else {
+    loadPairsOf<kFriction, kOptional, false>(p, lead, c, m, springOf);
+  }
 }
 
 /// A shell's contact with the particle at x (radius r, velocity u): the normal n out of the
