@@ -84,8 +84,9 @@ void printHeader(std::ostream& out, const Scene& scene, const Simulation& sim,
         gearLimit ? 1.0 / kMaxStepFractionGear5 : config.step.contactResolution;
     out << "integrator  " << integrator << ", dt = auto: " << format("%.4g", config.step.safety)
         << " x the contact network's stable step, at most duration/" << format("%g", resolution)
-        << " = " << format("%.4g", check.accuracyStep) << " s"
-        << (gearLimit ? " (gear5's own limit)" : "")
+        << " = " << format("%.4g", sim.contactScale().duration / resolution) << " s"
+        << (gearLimit ? " (gear5's own limit)"
+                      : " while contacts strike (not move with the network)")
         << "; re-chosen at each neighbour-list rebuild "
         << "and every " << config.step.recheckSteps << " steps; first dt = " << csvNumber(dt)
         << " s ("

@@ -15,12 +15,14 @@ struct SimulationState;
 /// One contact of the linearised network: bodies i and j (j = i: a wall), the unit normal from
 /// i towards j (into the wall), R_ij [m], m_ij [kg], the overlap it is linearised at [m] (under
 /// Hertz's law with the overlap a head-on impact at its closing speed adds), that closing speed
-/// [m/s], and whether it touches now (else a candidate about to touch).
+/// [m/s], whether it touches now (else a candidate about to touch), and the speed of its bodies'
+/// centres relative to each other (to the wall's point) [m/s], sliding and separating included.
 struct NetworkContact {
   std::size_t i = 0, j = 0;
   Vec3 normal;
   double reduced = 0, mass = 0, overlap = 0, approach = 0;
   bool touching = true;
+  double relativeSpeed = 0;
 };
 /// Calls `visit` for every touching contact (a pair from its first side) and, with `lookahead`
 /// > 0 [s], every neighbour-list candidate (pair or wall) that closes its gap within it at its

@@ -11,6 +11,7 @@
 #include "contact_linearisation.hpp"
 #include "domain_split.hpp"
 #include "force_pass.hpp"
+#include "granular/exact_sum.hpp"
 #include "network_bound.hpp"
 #include "simulation_state.hpp"
 #include "wall_contact.hpp"
@@ -147,14 +148,16 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
     return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
   };
   auto pairOf = [&](std::size_t i, std::size_t j, const Vec3& normal, double u, double h,
-                    bool touching) {
+                    bool touching, double relative) {
     const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
     const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-    visit({i, j, normal, reduced, mass, h + impactOverlap(mass, reduced, u), u, touching});
+    visit(
+        {i, j, normal, reduced, mass, h + impactOverlap(mass, reduced, u), u, touching, relative});
   };
-  auto wallOf = [&](std::size_t i, const Vec3& normal, double u, double h, bool touching) {
+  auto wallOf = [&](std::size_t i, const Vec3& normal, double u, double h, bool touching,
+                    double relative) {
     visit({i, i, normal, p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u), u,
-           touching});
+           touching, relative});
   };
 
   // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
@@ -166,12 +169,13 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
         if (c.overlap < 0.0) return;
         const std::size_t i = c.particle;
         if (c.isWall()) {
-          const double u = (p.velocity[i] - s.walls[c.wall()].velocityAt(c.point)).dot(c.normal);
-          wallOf(i, c.normal, u, c.overlap, true);
+          const Vec3 v = p.velocity[i] - s.walls[c.wall()].velocityAt(c.point);
+          wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
         } else {
           const std::size_t j = c.otherParticle();
           if (j < i) return;
-          pairOf(i, j, c.normal, (p.velocity[i] - p.velocity[j]).dot(c.normal), c.overlap, true);
+          const Vec3 v = p.velocity[i] - p.velocity[j];
+          pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
         }
       },
       nullptr);
@@ -189,7 +193,7 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
       if (!(gap > 0.0)) continue;  // touching: counted above
       const double u = (p.velocity[i] - p.velocity[j]).dot(d) / distance;
       if (!(u > 0.0) || gap > u * lookahead) continue;
-      pairOf(i, j, d / distance, u, 0.0, false);
+      pairOf(i, j, d / distance, u, 0.0, false, (p.velocity[i] - p.velocity[j]).norm());
     }
   }
   for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
@@ -210,9 +214,10 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
       const double gap = touch.distance - p.radius[i];
       if (!(gap > 0.0)) continue;
       const Vec3 closest = p.position[i] - touch.distance * touch.normal;
-      const double u = -(p.velocity[i] - wall.velocityAt(closest)).dot(touch.normal);
+      const Vec3 v = p.velocity[i] - wall.velocityAt(closest);
+      const double u = -v.dot(touch.normal);
       if (!(u > 0.0) || gap > u * lookahead) continue;
-      wallOf(i, -touch.normal, u, 0.0, false);
+      wallOf(i, -touch.normal, u, 0.0, false, v.norm());
     }
   }
 }
@@ -250,6 +255,8 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   // A split run counts a contact on the rank that owns its first particle.
   auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
   bool added = false;  // a contact added here
+  // ½ m_ij u² over the contacts counted here, exactly: the same bits on any rank count.
+  ExactSum relativeKinetic;
   // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
   // on its modes (contact_linearisation.hpp).
   visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
@@ -258,6 +265,7 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     const bool wall = j == i;
     out.fastestApproach = std::max(out.fastestApproach, n.approach);
     (n.touching ? out.contacts : out.approaching) += mine(i) ? 1 : 0;
+    if (mine(i)) relativeKinetic.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
     LinearContact linear = linearisedContact(s, n, constants, optional);
     // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
     // far stands in for it.
@@ -288,7 +296,11 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
     out.fastestApproach = s.ranks->maxOverRanks(out.fastestApproach);
+    std::vector<ExactSum> sums{relativeKinetic};
+    s.ranks->mergeOverRanks(sums);
+    relativeKinetic = sums[0];
   }
+  out.relativeKinetic = relativeKinetic.value();
   PowerBound k(stiffness, s), c(damping, s);
   auto fill = [&] {
     out.omegaMax = std::sqrt(k.value());

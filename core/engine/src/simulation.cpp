@@ -408,7 +408,16 @@ void Simulation::setExactSums(bool exact) {
 
 void Simulation::setWallVelocity(std::size_t wall, const Vec3& velocity) {
   requireConfig(velocity.allFinite(), "wall velocity must be finite");
-  state_->walls.at(wall).velocity = velocity;
+  SimulationState& s = *state_;
+  Wall& w = s.walls.at(wall);
+  if (w.velocity == velocity) return;
+  w.velocity = velocity;
+  // A wall that starts or changes its motion may start an impact: an automatic step is chosen
+  // again before the next step, not at the next check (the accuracy floor is for impacts).
+  if (s.config.step.automatic) {
+    s.partition->beforeStepCheck(s);
+    checkStep(s);
+  }
 }
 
 long Simulation::findWall(const std::string& name) const {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "config_validation.hpp"
@@ -18,18 +19,42 @@ namespace {
 /// (every impact of a Gear5 step at t_c/50 spans two such checks).
 constexpr std::uint64_t kStepsBetweenChecks = 10, kStepsBetweenFixedChecks = 25;
 
-/// The accuracy floor t_c / N of the stiffest contact at the approach speed `approach` [m/s]:
-/// a Hertz contact is shorter at a higher speed, so the floor follows the run's fastest
-/// approach wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend
-/// on it. Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long,
-/// but contacts that open and close inside a step kick its higher derivatives, and beds gain
-/// energy above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
-double accuracyFloor(const SimulationState& s, Integrator integrator, double approach) {
+/// Contacts whose relative motion holds less kinetic energy than this fraction of what their
+/// springs store move with the network: no impact.
+constexpr double kSlowMotion = 0.01;
+
+/// The energy the contacts' springs store now (the Stored accounts of the last force pass) [J].
+double storedEnergy(const SimulationState& s) {
+  double stored = 0.0;
+  for (std::size_t slot = 0; slot < kEnergySlots; ++slot) {
+    if (kEnergySlotTable[slot].kind == EnergyKind::Stored) stored += s.powers.energy[slot];
+  }
+  return stored;
+}
+
+/// The accuracy floor t_c / N of the stiffest contact, from what the check `f` measured: a
+/// Hertz contact is shorter at a higher speed, so the floor follows the run's fastest approach
+/// wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend on it.
+/// The floor is for impacts: where the kinetic energy of the contacts' relative motion K is
+/// under kSlowMotion of the energy E their springs store, the contacts move with the network,
+/// whose step governs, and the floor stretches as kSlowMotion E / K (to +∞ at rest): an
+/// impact misses energy first order in the step and in proportion to its own, so what the
+/// impacts miss stays what they would at the threshold at t_c / N (docs/physics.md §2.16).
+/// Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long, but
+/// contacts that open and close inside a step kick its higher derivatives, and beds gain energy
+/// above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
+double accuracyFloor(const SimulationState& s, Integrator integrator, const NetworkFrequency& f,
+                     double stored) {
   const bool faster =
-      s.config.material.normalLaw == NormalLaw::Hertz && approach > s.config.impactSpeed;
+      s.config.material.normalLaw == NormalLaw::Hertz && f.fastestApproach > s.config.impactSpeed;
   const ContactScale scale =
-      faster ? stiffestContact(s.config.material, s.contactScale.radius, approach) : s.contactScale;
+      faster ? stiffestContact(s.config.material, s.contactScale.radius, f.fastestApproach)
+             : s.contactScale;
   double floor = scale.duration / s.config.step.contactResolution;
+  const double slow = kSlowMotion * stored, moving = f.relativeKinetic;
+  if (f.contacts > 0 && moving < slow) {
+    floor = moving > 0.0 ? floor * (slow / moving) : std::numeric_limits<double>::infinity();
+  }
   if (integrator == Integrator::Gear5) floor = std::min(floor, maxStableStep(scale, integrator));
   return floor;
 }
@@ -39,23 +64,26 @@ double accuracyFloor(const SimulationState& s, Integrator integrator, double app
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
   const StepControl& control = s.config.step;
   // Contacts that form within two check intervals count; an automatic step may grow to its
-  // floor at the expected speed before the next check, so the interval is measured in that.
-  const double longest = control.automatic ? std::max(dt, accuracyFloor(s, integrator, 0.0)) : dt;
+  // floor at the expected speed before the next check, so the interval is measured in that,
+  // or in the step it takes where it is longer (the floor lifted: no contact an impact).
+  const double longest =
+      control.automatic ? std::max(dt, accuracyFloor(s, integrator, NetworkFrequency{}, 0.0)) : dt;
   const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * longest;
   StepCheck c;
+  const double stored = storedEnergy(s);
   // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
-  // fixed step, or the accuracy floor an automatic step cannot exceed anyway. An automatic step
+  // fixed step, or the accuracy floor an automatic step cannot exceed anyway (with no contact
+  // an impact, the 8 sweeps' bound: the floor is then lifted). An automatic step
   // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
   // fixed one 32 before it is judged above the network's.
   const NetworkFrequency f = networkFrequencyBound(
       s, control.automatic ? 8 : 32, lookahead, [&](const NetworkFrequency& g) {
-        const double needed = control.automatic
-                                  ? accuracyFloor(s, integrator, g.fastestApproach) / control.safety
-                                  : dt;
+        const double needed =
+            control.automatic ? accuracyFloor(s, integrator, g, stored) / control.safety : dt;
         return needed <= networkStepOf(integrator, g);
       });
   c.approachSpeed = f.fastestApproach;
-  c.accuracyStep = accuracyFloor(s, integrator, f.fastestApproach);
+  c.accuracyStep = accuracyFloor(s, integrator, f, stored);
   c.time = clockNow(s);
   c.omegaMax = f.omegaMax;
   c.dampingRatio = f.dampingRatio;
@@ -152,10 +180,17 @@ void checkStep(SimulationState& s) {
 
 bool stepCheckDue(const SimulationState& s, bool rebuilt) {
   const std::uint64_t since = s.stepsSinceCheck + 1;
-  const std::uint64_t gap =
-      s.config.step.automatic ? kStepsBetweenChecks : kStepsBetweenFixedChecks;
-  return (s.config.step.automatic || !s.stepLimitDisabled) &&
-         ((rebuilt && since >= gap) || since >= s.config.step.recheckSteps);
+  const StepControl& control = s.config.step;
+  // An automatic step above the floor (the contacts moving with the network) checks at every
+  // rebuild: the new list may hold a particle about to strike, which brings the floor back
+  // before it touches. Such a bed rebuilds seldom.
+  const bool lifted =
+      control.automatic && s.config.timeStep > s.contactScale.duration / control.contactResolution;
+  const std::uint64_t gap = lifted              ? 1
+                            : control.automatic ? kStepsBetweenChecks
+                                                : kStepsBetweenFixedChecks;
+  return (control.automatic || !s.stepLimitDisabled) &&
+         ((rebuilt && since >= gap) || since >= control.recheckSteps);
 }
 
 }  // namespace granular

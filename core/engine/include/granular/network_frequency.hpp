@@ -65,6 +65,12 @@ struct NetworkFrequency {
   /// (0 with none): the approach speeds the run actually has, which a Hertz contact's duration
   /// depends on (the step control's accuracy floor follows it).
   double fastestApproach = 0;
+  /// Σ ½ m_ij |v_i − v_j|² over the contacts counted (v_j a wall's velocity at the contact,
+  /// m_ij the particle's mass there) [J]: the kinetic energy of the contacts' relative motion,
+  /// closing, separating or sliding, which an impact turns into spring energy. Against what
+  /// the springs store it tells impacts from a network that moves slowly (the step control's
+  /// accuracy floor is for impacts).
+  double relativeKinetic = 0;
 };
 NetworkFrequency networkFrequencyBound(const Simulation& sim, int sweeps = 32,
                                        double lookahead = 0.0);

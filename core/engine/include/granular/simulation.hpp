@@ -59,7 +59,9 @@ struct StepControl {
   double safety = 0.9;
   /// Accuracy floor: Δt ≤ t_c / N, t_c the stiffest contact's duration (contactScale()), so
   /// that an impact is resolved in at least N steps however stable a longer step would be.
-  /// 10: restitution within 3 % (damped Hooke) and 0.5 % (Hertz) (bench/RESULTS.md).
+  /// 10: restitution within 3 % (damped Hooke) and 0.5 % (Hertz) (bench/RESULTS.md). It is
+  /// for impacts: where the kinetic energy of the contacts' relative motion is under 1 % of what
+  /// their springs store, it stretches and the network's step governs (docs/physics.md §2.16).
   double contactResolution = 10.0;
   OnUnstable onUnstable = OnUnstable::Stop;  ///< for a fixed step
   std::uint64_t recheckSteps = 100;          ///< the longest run of steps between checks
@@ -186,7 +188,9 @@ struct StepCheck {
   double dampingRatio = 0;   ///< Γ / (2 ω_max) [-]
   std::size_t particle = 0;  ///< whose row set ω_max
   std::size_t contacts = 0;  ///< touching contacts, and those about to form, counted
-  double accuracyStep = 0;   ///< t_c / N [s], t_c at the faster of approachSpeed and impactSpeed
+  /// t_c / N [s], t_c at the faster of approachSpeed and impactSpeed; stretched (to +∞) where
+  /// no contact is an impact (StepControl::contactResolution).
+  double accuracyStep = 0;
   /// The fastest closing speed among the contacts touching or about to touch [m/s]: a Hertz
   /// contact's duration, hence the accuracy floor, follows it where it exceeds the expected
   /// config.impactSpeed.
@@ -349,7 +353,7 @@ class Simulation {
   /// Takes a wall away (a gate opened): it touches nothing from the next step on and keeps its
   /// index and name, with a zero reaction (Wall::removed). Its contacts' springs are dropped.
   void removeWall(std::size_t wall);
-  /// Sets a wall's prescribed velocity [m/s].
+  /// Sets a wall's prescribed velocity [m/s]; a changed one re-chooses an automatic step.
   void setWallVelocity(std::size_t wall, const Vec3& velocity);
   /// Index of the wall with this name, or -1.
   long findWall(const std::string& name) const;
