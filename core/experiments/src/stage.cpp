@@ -46,15 +46,17 @@ void placeTopWall(Simulation& sim, const StageSpec& stage) {
 
 /// Every wall not named by the stage is at rest during it: a stage describes the whole wall
 /// motion, so a hold stage after a compaction does not inherit the compaction's velocity.
+/// Each wall's velocity is set once (a change re-chooses an automatic step).
 void applyWallMotions(Simulation& sim, const StageSpec& stage) {
-  for (std::size_t w = 0; w < sim.walls().size(); ++w) sim.setWallVelocity(w, Vec3::Zero());
+  std::vector<Vec3> velocity(sim.walls().size(), Vec3::Zero());
   for (const WallMotion& motion : stage.wallMotions) {
     const long index = sim.findWall(motion.wall);
     if (index < 0) {
       throw ConfigError("stage '" + stage.name + "': no wall named '" + motion.wall + "' to move");
     }
-    sim.setWallVelocity(std::size_t(index), motion.velocity);
+    velocity[std::size_t(index)] = motion.velocity;
   }
+  for (std::size_t w = 0; w < velocity.size(); ++w) sim.setWallVelocity(w, velocity[w]);
 }
 
 /// Fires onSample every output interval and onSnapshot once per snapshot time (the stage's own
