@@ -161,29 +161,65 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
   };
 
   // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
-  visitContacts(
-      s,
-      [&](const ContactView& c) {
-        // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is a
-        // candidate below, about to touch if it approaches.
-        if (c.overlap < 0.0) return;
-        const std::size_t i = c.particle;
-        if (c.isWall()) {
-          const Vec3 v = p.velocity[i] - s.walls[c.wall()].velocityAt(c.point);
-          wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
-        } else {
-          const std::size_t j = c.otherParticle();
-          if (j < i) return;
-          const Vec3 v = p.velocity[i] - p.velocity[j];
-          pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
-        }
-      },
-      nullptr);
+  const NeighbourList& list = s.neighbours;
+  const bool listed = list.valid && list.rowStart.size() == p.size() + 1;
+  const bool meshes = std::any_of(s.walls.begin(), s.walls.end(), [](const Wall& w) {
+    return w.shape == WallShape::Mesh && !w.removed;
+  });
+  if (listed && !meshes) {
+    // From the geometry alone: spheres and analytic walls touch where their surfaces overlap,
+    // and the forces, which a measuring pass would evaluate (serially) besides, are not needed.
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+        const std::size_t j = list.second[k];
+        const Vec3 d = p.position[j] - p.position[i];
+        const double distance = d.norm();
+        const double h = p.radius[i] + p.radius[j] - distance;
+        if (!(h > 0.0)) continue;
+        const Vec3 normal = d / distance, v = p.velocity[i] - p.velocity[j];
+        pairOf(i, j, normal, v.dot(normal), h, true, v.norm());
+      }
+    }
+    for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
+      const Wall& wall = s.walls[w];
+      if (wall.removed) continue;
+      for (const std::uint32_t i : list.wallParticles[w]) {
+        if (i >= p.size()) continue;
+        const WallTouch touch = touchOf(wall, p.position[i]);
+        const double h = p.radius[i] - touch.distance;
+        if (!(h > 0.0)) continue;
+        const Vec3 normal = -touch.normal;  // out of i into the wall
+        const Vec3 point = p.position[i] + (p.radius[i] - 0.5 * h) * normal;  // midway
+        const Vec3 v = p.velocity[i] - wall.velocityAt(point);
+        wallOf(i, normal, v.dot(normal), h, true, v.norm());
+      }
+    }
+  } else {
+    // Mesh walls: a sphere may touch several of a mesh's triangles, which the measuring pass
+    // finds as the force pass does.
+    visitContacts(
+        s,
+        [&](const ContactView& c) {
+          // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is
+          // a candidate below, about to touch if it approaches.
+          if (c.overlap < 0.0) return;
+          const std::size_t i = c.particle;
+          if (c.isWall()) {
+            const Vec3 v = p.velocity[i] - s.walls[c.wall()].velocityAt(c.point);
+            wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
+          } else {
+            const std::size_t j = c.otherParticle();
+            if (j < i) return;
+            const Vec3 v = p.velocity[i] - p.velocity[j];
+            pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
+          }
+        },
+        nullptr);
+  }
 
   // Candidates about to touch: the neighbour list holds every pair that can touch before it is
   // rebuilt.
-  const NeighbourList& list = s.neighbours;
-  if (!(lookahead > 0.0) || !list.valid || list.rowStart.size() != p.size() + 1) return;
+  if (!(lookahead > 0.0) || !listed) return;
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
       const std::size_t j = list.second[k];
