@@ -35,6 +35,12 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
 /// relative rotation's inertia of its bodies.
 LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
                                 const ContactConstants& constants, unsigned optional);
+/// What the step control's accuracy floor reads, without the bound: the contacts counted
+/// (touching and, within `lookahead` [s], about to touch), their fastest approach and the
+/// kinetic energy of their relative motion (NetworkFrequency's fields of those names; the
+/// frequencies left 0). Collective in a split run. A pass over the contacts alone: a fraction
+/// of a check's cost.
+NetworkFrequency networkMotion(const SimulationState& s, double lookahead);
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);

@@ -273,6 +273,30 @@ LinearContact linearisedContact(const SimulationState& s, const NetworkContact& 
   return linear;
 }
 
+NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
+  auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
+  NetworkFrequency out;
+  ExactSum relativeKinetic;  // the same bits on any rank count
+  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
+    out.fastestApproach = std::max(out.fastestApproach, n.approach);
+    if (!mine(n.i)) return;
+    (n.touching ? out.contacts : out.approaching) += 1;
+    relativeKinetic.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
+  });
+  if (s.split.domains) {
+    std::vector<std::uint64_t> counts{out.contacts, out.approaching};
+    s.ranks->sumOverRanks(counts);
+    out.contacts = counts[0];
+    out.approaching = counts[1];
+    out.fastestApproach = s.ranks->maxOverRanks(out.fastestApproach);
+    std::vector<ExactSum> sums{relativeKinetic};
+    s.ranks->mergeOverRanks(sums);
+    relativeKinetic = sums[0];
+  }
+  out.relativeKinetic = relativeKinetic.value();
+  return out;
+}
+
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough) {
   const Particles& p = s.particles;

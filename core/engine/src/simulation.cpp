@@ -267,15 +267,19 @@ void keepBooks(SimulationState& s, const ContactPowers& before, double dt) {
   c.largestStep = std::max(c.largestStep, dt);
 }
 
-/// 8. The step's check against the contact network, where due (stepCheckDue), on the
-/// corrected state.
-void checkStepIfDue(SimulationState& s, bool due) {
-  if (!due) {
+/// 8. The step's check against the contact network, or its scan, where due (stepCheckDue), on
+/// the corrected state.
+void checkStepIfDue(SimulationState& s, StepReview review) {
+  if (review == StepReview::None) {
     ++s.stepsSinceCheck;
     return;
   }
   s.partition->beforeStepCheck(s);
-  checkStep(s);
+  if (review == StepReview::Scan) {
+    scanStep(s);
+  } else {
+    checkStep(s);
+  }
 }
 
 /// One time step, as named passes:
@@ -295,11 +299,12 @@ void advance(SimulationState& s, bool predictNext) {
   const Prediction predicted = predict(step);                            // 1
   moveWalls(s, step.dt);                                                 // 2
   const bool rebuilt = refreshNeighbours(step, predicted.largestMove2);  // 3
-  const bool checking = stepCheckDue(s, rebuilt);
+  const StepReview review = stepCheckDue(s, rebuilt);
+  const bool checking = review != StepReview::None;  // the step may change
   const ContactPowers before = s.powers;
   forcesAndCorrect(step, predictNext && !checking, predicted.finite);  // 4-6
   keepBooks(s, before, step.dt);                                       // 7
-  checkStepIfDue(s, checking);                                         // 8
+  checkStepIfDue(s, review);                                           // 8
 }
 
 /// One step (advance), timed for the thread governor where OpenMP's count is left to it.

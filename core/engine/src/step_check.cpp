@@ -59,16 +59,22 @@ double accuracyFloor(const SimulationState& s, Integrator integrator, const Netw
   return floor;
 }
 
+/// How far ahead a contact about to form counts [s]: those that form within two check intervals.
+/// An automatic step may grow to its floor at the expected speed before the next check, so the
+/// interval is measured in that, or in the step `dt` it takes where that is longer (the floor
+/// stretched: no contact an impact).
+double lookaheadOf(const SimulationState& s, Integrator integrator, double dt) {
+  const StepControl& control = s.config.step;
+  const double longest =
+      control.automatic ? std::max(dt, accuracyFloor(s, integrator, NetworkFrequency{}, 0.0)) : dt;
+  return 2.0 * static_cast<double>(control.recheckSteps) * longest;
+}
+
 /// The network's stable step for `integrator` now, counting the contacts that may form within
 /// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor.
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
   const StepControl& control = s.config.step;
-  // Contacts that form within two check intervals count; an automatic step may grow to its
-  // floor at the expected speed before the next check, so the interval is measured in that,
-  // or in the step it takes where it is longer (the floor lifted: no contact an impact).
-  const double longest =
-      control.automatic ? std::max(dt, accuracyFloor(s, integrator, NetworkFrequency{}, 0.0)) : dt;
-  const double lookahead = 2.0 * static_cast<double>(control.recheckSteps) * longest;
+  const double lookahead = lookaheadOf(s, integrator, dt);
   StepCheck c;
   const double stored = storedEnergy(s);
   // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
@@ -178,19 +184,30 @@ void checkStep(SimulationState& s) {
   throw NumericalError(msg.str());
 }
 
-bool stepCheckDue(const SimulationState& s, bool rebuilt) {
+StepReview stepCheckDue(const SimulationState& s, bool rebuilt) {
   const std::uint64_t since = s.stepsSinceCheck + 1;
   const StepControl& control = s.config.step;
-  // An automatic step above the floor (the contacts moving with the network) checks at every
-  // rebuild: the new list may hold a particle about to strike, which brings the floor back
-  // before it touches. Such a bed rebuilds seldom.
-  const bool lifted =
+  if (!control.automatic && s.stepLimitDisabled) return StepReview::None;
+  // An automatic step above its floor (stretched: the contacts move with the network, which
+  // changes slowly) is checked at a rebuild as seldom as a fixed one, and looks at the rebuilds
+  // between whether the new list holds a particle about to strike, which brings the floor back
+  // before it touches.
+  const bool stretched =
       control.automatic && s.config.timeStep > s.contactScale.duration / control.contactResolution;
-  const std::uint64_t gap = lifted              ? 1
-                            : control.automatic ? kStepsBetweenChecks
-                                                : kStepsBetweenFixedChecks;
-  return (control.automatic || !s.stepLimitDisabled) &&
-         ((rebuilt && since >= gap) || since >= control.recheckSteps);
+  const std::uint64_t gap =
+      control.automatic && !stretched ? kStepsBetweenChecks : kStepsBetweenFixedChecks;
+  if (since >= control.recheckSteps || (rebuilt && since >= gap)) return StepReview::Check;
+  return rebuilt && stretched ? StepReview::Scan : StepReview::None;
+}
+
+void scanStep(SimulationState& s) {
+  const Integrator integrator = s.config.integrator;
+  const NetworkFrequency f = networkMotion(s, lookaheadOf(s, integrator, targetStep(s)));
+  if (accuracyFloor(s, integrator, f, storedEnergy(s)) < targetStep(s)) {
+    checkStep(s);
+    return;
+  }
+  ++s.stepsSinceCheck;
 }
 
 }  // namespace granular

@@ -19,9 +19,21 @@ StepCheck requireAllowedStep(const SimulationState& s, double dt, Integrator int
 /// The check of the step against the network: with step.automatic the step is chosen, else a
 /// fixed step above the network's stops the run (NumericalError) or is counted.
 void checkStep(SimulationState& s);
-/// Whether the step that is running checks the step once corrected: after a rebuild, at most
-/// every 10 steps (a fixed step every 25: a settling bed rebuilds every few steps, and a check
-/// costs about one step), and at least every recheckSteps steps.
-bool stepCheckDue(const SimulationState& s, bool rebuilt);
+/// What the step that is running does about the step once corrected.
+enum class StepReview {
+  None,
+  /// The contacts' motion alone (networkMotion), for a particle about to strike: it brings the
+  /// accuracy floor back, with a check.
+  Scan,
+  Check,  ///< checkStep
+};
+/// What the step that is running does once corrected: a check after a rebuild, at most every 10
+/// steps (a fixed step every 25: a settling bed rebuilds every few steps, and a check costs
+/// about one step), and at least every recheckSteps steps; with an automatic step above its
+/// floor (stretched: no contact an impact), a scan at the rebuilds between.
+StepReview stepCheckDue(const SimulationState& s, bool rebuilt);
+/// The scan (StepReview::Scan): a check where the contacts' motion brings the floor below the
+/// step, else nothing but the count of steps since the check.
+void scanStep(SimulationState& s);
 
 }  // namespace granular
