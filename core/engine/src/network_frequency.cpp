@@ -273,27 +273,51 @@ LinearContact linearisedContact(const SimulationState& s, const NetworkContact& 
   return linear;
 }
 
-NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
-  auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
-  NetworkFrequency out;
-  ExactSum relativeKinetic;  // the same bits on any rank count
-  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
-    out.fastestApproach = std::max(out.fastestApproach, n.approach);
-    if (!mine(n.i)) return;
-    (n.touching ? out.contacts : out.approaching) += 1;
-    relativeKinetic.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
-  });
-  if (s.split.domains) {
-    std::vector<std::uint64_t> counts{out.contacts, out.approaching};
-    s.ranks->sumOverRanks(counts);
-    out.contacts = counts[0];
-    out.approaching = counts[1];
-    out.fastestApproach = s.ranks->maxOverRanks(out.fastestApproach);
-    std::vector<ExactSum> sums{relativeKinetic};
-    s.ranks->mergeOverRanks(sums);
-    relativeKinetic = sums[0];
+namespace {
+
+/// What the contacts' motion tells the step control, summed as they are visited: the counts, the
+/// fastest approach and the kinetic energy of the relative motion (NetworkFrequency's fields).
+/// A split run counts a contact on the rank that owns its first particle.
+class MotionTally {
+ public:
+  explicit MotionTally(const SimulationState& s) : s_(s) {}
+  void add(const NetworkContact& n) {
+    out_.fastestApproach = std::max(out_.fastestApproach, n.approach);
+    if (!(s_.owned.empty() || s_.owned[n.i])) return;
+    (n.touching ? out_.contacts : out_.approaching) += 1;
+    relativeKinetic_.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
   }
-  out.relativeKinetic = relativeKinetic.value();
+  /// The tally into `out` (collective in a split run: sums and the largest over the ranks).
+  void fill(NetworkFrequency& out) {
+    if (s_.split.domains) {
+      std::vector<std::uint64_t> counts{out_.contacts, out_.approaching};
+      s_.ranks->sumOverRanks(counts);
+      out_.contacts = counts[0];
+      out_.approaching = counts[1];
+      out_.fastestApproach = s_.ranks->maxOverRanks(out_.fastestApproach);
+      std::vector<ExactSum> sums{relativeKinetic_};
+      s_.ranks->mergeOverRanks(sums);
+      relativeKinetic_ = sums[0];
+    }
+    out.contacts = out_.contacts;
+    out.approaching = out_.approaching;
+    out.fastestApproach = out_.fastestApproach;
+    out.relativeKinetic = relativeKinetic_.value();
+  }
+
+ private:
+  const SimulationState& s_;
+  NetworkFrequency out_;
+  ExactSum relativeKinetic_;  // exact: the same bits on any rank count
+};
+
+}  // namespace
+
+NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
+  MotionTally tally(s);
+  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
+  NetworkFrequency out;
+  tally.fill(out);
   return out;
 }
 
@@ -312,20 +336,15 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   auto body = [&](std::size_t i, double h) {
     return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
   };
-  // A split run counts a contact on the rank that owns its first particle.
-  auto mine = [&](std::size_t i) { return s.owned.empty() || s.owned[i]; };
-  bool added = false;  // a contact added here
-  // ½ m_ij u² over the contacts counted here, exactly: the same bits on any rank count.
-  ExactSum relativeKinetic;
+  bool added = false;    // a contact added here
+  MotionTally tally(s);  // a split run counts a contact on the rank of its first particle
   // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
   // on its modes (contact_linearisation.hpp).
   visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
     const std::size_t i = n.i, j = n.j;
     const double h = n.overlap;
     const bool wall = j == i;
-    out.fastestApproach = std::max(out.fastestApproach, n.approach);
-    (n.touching ? out.contacts : out.approaching) += mine(i) ? 1 : 0;
-    if (mine(i)) relativeKinetic.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
+    tally.add(n);
     LinearContact linear = linearisedContact(s, n, constants, optional);
     // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
     // far stands in for it.
@@ -345,22 +364,14 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
                  contactGain(c, body(j, h), rotations));
   });
 
+  tally.fill(out);
   if (s.split.domains) {
-    // Sums and the least ratio over the ranks (each contact is on one rank or on two alike).
-    std::vector<std::uint64_t> counts{out.contacts, out.approaching};
-    s.ranks->sumOverRanks(counts);
-    out.contacts = counts[0];
-    out.approaching = counts[1];
+    // The least ratio over the ranks (each contact is on one rank or on two alike).
     const double least = -s.ranks->maxOverRanks(added ? -out.smallestDampingRatio
                                                       : -std::numeric_limits<double>::infinity());
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
-    out.fastestApproach = s.ranks->maxOverRanks(out.fastestApproach);
-    std::vector<ExactSum> sums{relativeKinetic};
-    s.ranks->mergeOverRanks(sums);
-    relativeKinetic = sums[0];
   }
-  out.relativeKinetic = relativeKinetic.value();
   PowerBound k(stiffness, s), c(damping, s);
   auto fill = [&] {
     out.omegaMax = std::sqrt(k.value());
