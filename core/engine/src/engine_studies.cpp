@@ -9,6 +9,7 @@ namespace granular {
 /// The one way in from the studies' functions to the state (a friend of Simulation).
 struct SimulationStudies {
   static SimulationState& state(Simulation& sim) { return *sim.state_; }
+  static const SimulationState& state(const Simulation& sim) { return *sim.state_; }
 };
 
 namespace studies {
@@ -19,6 +20,10 @@ void setRebuildEveryStep(Simulation& sim, bool on) {
 
 void disableStepLimit(Simulation& sim, bool off) {
   SimulationStudies::state(sim).stepLimitDisabled = off;
+}
+
+StepControlCost stepControlCost(const Simulation& sim) {
+  return SimulationStudies::state(sim).stepControlCost;
 }
 
 }  // namespace studies

@@ -160,22 +160,54 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
            touching, relative});
   };
 
-  // Touching contacts (from each pair's first side), at their overlap (plus an impact's).
+  // A pair not touching that closes its gap within the lookahead at its present closing speed:
+  // a candidate about to touch (the neighbour list holds every pair that can touch before it is
+  // rebuilt). `d` runs from i to j, `distance` is its length.
+  struct Candidate {
+    std::size_t i, j;
+    Vec3 normal;
+    double approach, relative;
+  };
+  auto candidate = [&](std::size_t i, std::size_t j, const Vec3& d, double distance,
+                       std::vector<Candidate>& out) {
+    const double gap = distance - p.radius[i] - p.radius[j];
+    if (!(gap > 0.0)) return;
+    const Vec3 v = p.velocity[i] - p.velocity[j];
+    const double u = v.dot(d) / distance;
+    if (!(u > 0.0) || gap > u * lookahead) return;
+    out.push_back({i, j, d / distance, u, v.norm()});
+  };
+
+  // Touching contacts (from each pair's first side), at their overlap (plus an impact's), then
+  // the candidates, pairs before walls: the order the bound's sums take.
   const NeighbourList& list = s.neighbours;
   const bool listed = list.valid && list.rowStart.size() == p.size() + 1;
+  const bool ahead = lookahead > 0.0 && listed;
   const bool meshes = std::any_of(s.walls.begin(), s.walls.end(), [](const Wall& w) {
     return w.shape == WallShape::Mesh && !w.removed;
   });
+  std::vector<Candidate> candidates;
   if (listed && !meshes) {
     // From the geometry alone: spheres and analytic walls touch where their surfaces overlap,
     // and the forces, which a measuring pass would evaluate (serially) besides, are not needed.
+    // One walk over the list finds the touching pairs and the candidates; a pair apart and
+    // separating is neither, and is passed over before its distance's square root (the margin
+    // keeps the comparison of squares on the safe side of the rounding).
     for (std::size_t i = 0; i < p.size(); ++i) {
       for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
         const std::size_t j = list.second[k];
         const Vec3 d = p.position[j] - p.position[i];
-        const double distance = d.norm();
-        const double h = p.radius[i] + p.radius[j] - distance;
-        if (!(h > 0.0)) continue;
+        const double reach = p.radius[i] + p.radius[j], distance2 = d.squaredNorm();
+        if (distance2 > reach * reach * (1.0 + 1e-12) &&
+            !(ahead && (p.velocity[i] - p.velocity[j]).dot(d) > 0.0)) {
+          continue;
+        }
+        const double distance = std::sqrt(distance2);
+        const double h = reach - distance;
+        if (!(h > 0.0)) {
+          if (ahead) candidate(i, j, d, distance, candidates);
+          continue;
+        }
         const Vec3 normal = d / distance, v = p.velocity[i] - p.velocity[j];
         pairOf(i, j, normal, v.dot(normal), h, true, v.norm());
       }
@@ -215,22 +247,20 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
           }
         },
         nullptr);
+    if (ahead) {
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+          const std::size_t j = list.second[k];
+          const Vec3 d = p.position[j] - p.position[i];
+          candidate(i, j, d, d.norm(), candidates);
+        }
+      }
+    }
   }
 
-  // Candidates about to touch: the neighbour list holds every pair that can touch before it is
-  // rebuilt.
-  if (!(lookahead > 0.0) || !listed) return;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-      const std::size_t j = list.second[k];
-      const Vec3 d = p.position[j] - p.position[i];
-      const double distance = d.norm();
-      const double gap = distance - p.radius[i] - p.radius[j];
-      if (!(gap > 0.0)) continue;  // touching: counted above
-      const double u = (p.velocity[i] - p.velocity[j]).dot(d) / distance;
-      if (!(u > 0.0) || gap > u * lookahead) continue;
-      pairOf(i, j, d / distance, u, 0.0, false, (p.velocity[i] - p.velocity[j]).norm());
-    }
+  if (!ahead) return;
+  for (const Candidate& c : candidates) {
+    pairOf(c.i, c.j, c.normal, c.approach, 0.0, false, c.relative);
   }
   for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
     const Wall& wall = s.walls[w];

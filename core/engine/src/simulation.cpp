@@ -274,12 +274,17 @@ void checkStepIfDue(SimulationState& s, StepReview review) {
     ++s.stepsSinceCheck;
     return;
   }
+  const auto start = std::chrono::steady_clock::now();
   s.partition->beforeStepCheck(s);
   if (review == StepReview::Scan) {
+    ++s.stepControlCost.scans;
     scanStep(s);
   } else {
+    ++s.stepControlCost.checks;
     checkStep(s);
   }
+  s.stepControlCost.seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 /// One time step, as named passes:

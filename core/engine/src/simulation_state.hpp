@@ -13,6 +13,7 @@
 #include "granular/communicator.hpp"
 #include "granular/contact_model.hpp"
 #include "granular/domain_map.hpp"
+#include "granular/engine_studies.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
 #include "run_partition.hpp"
@@ -298,8 +299,9 @@ struct SimulationState {
   /// The step asked for (fixed) or chosen (automatic) [s]; config.timeStep is the next step's,
   /// shorter than this one when advanceTo lands on a time. 0: config.timeStep.
   double targetStep = 0.0;
-  std::uint64_t stepsSinceCheck = 0;  ///< steps since the step was last checked
-  StepCheck stepCheck;                ///< the last check
+  std::uint64_t stepsSinceCheck = 0;         ///< steps since the step was last checked
+  StepCheck stepCheck;                       ///< the last check
+  studies::StepControlCost stepControlCost;  ///< the reviews inside the steps (not checkpointed)
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle
   // and step costs less than 16 bytes per particle of memory traffic.)

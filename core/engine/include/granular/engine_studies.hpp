@@ -2,6 +2,8 @@
 /// Switches for tests, benchmarks and numerical studies, kept out of Simulation's public API: a
 /// program built on granular has no use for them, and one of them lets the engine produce
 /// garbage. Neither is checkpointed: a restored Simulation starts with both off.
+#include <cstdint>
+
 #include "granular/simulation.hpp"
 
 namespace granular::studies {
@@ -16,5 +18,15 @@ void setRebuildEveryStep(Simulation& sim, bool on);
 /// garbage. For the stability studies that measure those limits
 /// (bench/bench_gear_stability.cpp) and the tests that go past them on purpose.
 void disableStepLimit(Simulation& sim, bool off);
+
+/// What the step control's reviews inside the steps cost since the Simulation was made or
+/// restored (wall clock, not checkpointed): the full checks against the network, the scans of
+/// the contacts' motion alone, and their time [s]. For the benchmarks that weigh it against the
+/// run (bench/peer/peer_stage2.cpp).
+struct StepControlCost {
+  std::uint64_t checks = 0, scans = 0;
+  double seconds = 0.0;
+};
+StepControlCost stepControlCost(const Simulation& sim);
 
 }  // namespace granular::studies
