@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include "granular/contact_theory.hpp"
@@ -284,6 +285,62 @@ TEST(NetworkFrequency, VerletAtTheNetworksStepIsStableOnTheDampedNetwork) {
     std::printf("%-34s network step %.3g s (zeta %.3f), exact damped limit %.3g s (%.2f x)\n",
                 c.name, step.dt, step.zeta, lo, lo / step.dt);
     EXPECT_LE(lo / step.dt, 2.5);  // the price of the bound, stated in physics.md §2.16
+  }
+}
+
+TEST(NetworkFrequency, TheBoundIsTheSameBitsOnAnyThreadCount) {
+  // 10 × 10 × 8 frictional spheres of radii 30-35 mm on a lattice of 64 mm in a box: about
+  // two thirds of the lattice's neighbours overlap (rows of up to six contacts, whose sums
+  // depend on their order: summed in another order, the bound differs in its last bits), the
+  // others close their gaps at up to 2 m/s.
+  Material material;
+  material.friction = 0.3;
+  SimulationConfig cfg;
+  cfg.material = material;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.timeStep = 1e-7;  // [s] nothing is stepped
+  std::uint64_t state = 11;
+  auto uniform = [&state] {  // splitmix64
+    state += 0x9E3779B97F4A7C15ULL;
+    std::uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  const double spacing = 0.064, side = 10 * spacing;
+  Particles p;
+  for (int k = 0; k < 8; ++k) {
+    for (int j = 0; j < 10; ++j) {
+      for (int i = 0; i < 10; ++i) {
+        const double vx = uniform() - 0.5, vy = uniform() - 0.5, vz = uniform() - 0.5;
+        const double radius = 0.03 + 0.005 * uniform();
+        p.add(spacing * Vec3(i + 0.5, j + 0.5, k + 0.5), radius, material.density,
+              4.0 * Vec3(vx, vy, vz));
+      }
+    }
+  }
+  std::vector<Wall> walls = {
+      {"x-", Vec3(0, 0, 0), Vec3(1, 0, 0)},     {"x+", Vec3(side, 0, 0), Vec3(-1, 0, 0)},
+      {"y-", Vec3(0, 0, 0), Vec3(0, 1, 0)},     {"y+", Vec3(0, side, 0), Vec3(0, -1, 0)},
+      {"bottom", Vec3(0, 0, 0), Vec3(0, 0, 1)},
+  };
+  Simulation sim(std::move(p), std::move(walls), cfg);
+  const double lookahead = 0.01;  // [s]
+  sim.setThreads(1);
+  const NetworkFrequency one = networkFrequencyBound(sim, 32, lookahead);
+  ASSERT_GT(one.contacts, 1000u);
+  ASSERT_GT(one.approaching, 100u);
+  for (int threads : {2, 3, 4}) {
+    sim.setThreads(threads);
+    const NetworkFrequency f = networkFrequencyBound(sim, 32, lookahead);
+    EXPECT_EQ(f.omegaMax, one.omegaMax) << threads << " threads";
+    EXPECT_EQ(f.dampingRate, one.dampingRate) << threads << " threads";
+    EXPECT_EQ(f.particle, one.particle) << threads << " threads";
+    EXPECT_EQ(f.contacts, one.contacts) << threads << " threads";
+    EXPECT_EQ(f.approaching, one.approaching) << threads << " threads";
+    EXPECT_EQ(f.smallestDampingRatio, one.smallestDampingRatio) << threads << " threads";
+    EXPECT_EQ(f.fastestApproach, one.fastestApproach) << threads << " threads";
+    EXPECT_EQ(f.relativeKinetic, one.relativeKinetic) << threads << " threads";
   }
 }
 

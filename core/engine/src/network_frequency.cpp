@@ -2,10 +2,12 @@
 #include "granular/network_frequency.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "contact_linearisation.hpp"
@@ -50,68 +52,121 @@ double contactGain(const ContactStiffness& k, const ContactBody& body, bool rota
 
 namespace {
 
-/// A matrix B with B_ii = diagonal[i] and, per link, B_ij = B_ji = gi gj: it dominates the
-/// block norms of a mass-weighted contact matrix entrywise (stiffness or damping), so the
-/// matrix's largest eigenvalue is at most ρ(B) ≤ max_i (B x)_i / x_i for any positive x
-/// (Collatz–Wielandt). x = 1 is Gershgorin's bound; each sweep x ← B x tightens it.
-struct GainMatrix {
+/// The network's two gain matrices, of its springs (stiffness) and of its dashpots (damping),
+/// on one set of links. Each is a matrix B with B_ii = its diagonal[i] and, per link,
+/// B_ij = B_ji = gi gj: it dominates the block norms of the mass-weighted contact matrix
+/// entrywise, so that matrix's largest eigenvalue is at most ρ(B) ≤ max_i (B x)_i / x_i for any
+/// positive x (Collatz–Wielandt). x = 1 is Gershgorin's bound; each sweep x ← B x tightens it.
+struct GainMatrices {
+  static constexpr std::size_t kStiffness = 0, kDamping = 1;
   struct Link {
     std::uint32_t i, j;
-    double gi, gj;
+    std::array<double, 2> weight;  ///< gi gj of the stiffness and of the damping
   };
-  std::vector<double> diagonal;
+  std::array<std::vector<double>, 2> diagonal;
   std::vector<Link> links;
 
-  explicit GainMatrix(std::size_t n) : diagonal(n, 0.0) {}
-  void wall(std::size_t i, double g) { diagonal[i] += g * g; }
-  void pair(std::size_t i, std::size_t j, double gi, double gj) {
-    diagonal[i] += gi * gi;
-    diagonal[j] += gj * gj;
-    links.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), gi, gj});
+  explicit GainMatrices(std::size_t n) : diagonal{std::vector<double>(n), std::vector<double>(n)} {}
+  /// A wall contact of body i: its gains on the stiffness and on the damping.
+  void wall(std::size_t i, double k, double c) {
+    diagonal[kStiffness][i] += k * k;
+    diagonal[kDamping][i] += c * c;
+  }
+  /// A pair's contact: each body's gains on the stiffness (ki, kj) and on the damping (ci, cj).
+  void pair(std::size_t i, std::size_t j, double ki, double kj, double ci, double cj) {
+    diagonal[kStiffness][i] += ki * ki;
+    diagonal[kStiffness][j] += kj * kj;
+    diagonal[kDamping][i] += ci * ci;
+    diagonal[kDamping][j] += cj * cj;
+    links.push_back(
+        {static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), {ki * kj, ci * cj}});
   }
 };
 
-/// The Collatz–Wielandt bound of a gain matrix, tightened one power sweep at a time. In a run
-/// split by space (domain_split.hpp) each rank measures the rows of its own particles, whose
-/// links it holds whole and in one process's order, and its ghosts take their owners' x after
-/// each sweep: the bound and its row are the same bits as one process's.
-class PowerBound {
+/// The Collatz–Wielandt bounds of the two gain matrices, tightened one power sweep at a time,
+/// both in one walk over the links. In a run split by space (domain_split.hpp) each rank
+/// measures the rows of its own particles, whose links it holds whole and in one process's
+/// order, and its ghosts take their owners' x after each sweep: the bounds and their rows are
+/// the same bits as one process's.
+class PowerBounds {
  public:
-  /// The bound of sweep 0 (Gershgorin's).
-  PowerBound(const GainMatrix& m, const SimulationState& s)
-      : m_(m), s_(s), x_(m.diagonal.size(), 1.0), y_(m.diagonal.size(), 0.0) {
-    measure();
+  /// The bounds of sweep 0 (Gershgorin's).
+  PowerBounds(const GainMatrices& m, const SimulationState& s) : m_(m), s_(s) {
+    for (Bound& b : bounds_) {
+      b.x.assign(m.diagonal[0].size(), 1.0);
+      b.y.assign(m.diagonal[0].size(), 0.0);
+    }
+    measure({true, true});
   }
-  /// One more sweep: x ← B x (scaled), and the bound again; the bound kept is the smallest.
+  /// One more sweep of each: x ← B x (scaled), and the bound again; the bound kept is the
+  /// smallest. A matrix without gains (B x = 0) keeps its bound.
   void next() {
-    double scale = 0.0;
-    for (std::size_t i = 0; i < y_.size(); ++i) scale = mine(i) ? std::max(scale, y_[i]) : scale;
-    if (split()) scale = s_.ranks->maxOverRanks(scale);
-    if (!(scale > 0.0)) return;
-    for (std::size_t i = 0; i < x_.size(); ++i) x_[i] = std::max(y_[i] / scale, 1e-300);
-    if (split()) refreshGhostValues(s_, x_);
-    measure();
+    std::array<bool, 2> moved{};
+    for (std::size_t k = 0; k < 2; ++k) {
+      Bound& b = bounds_[k];
+      double scale = 0.0;
+      for (std::size_t i = 0; i < b.y.size(); ++i)
+        scale = mine(i) ? std::max(scale, b.y[i]) : scale;
+      if (split()) scale = s_.ranks->maxOverRanks(scale);
+      if (!(scale > 0.0)) continue;
+      for (std::size_t i = 0; i < b.x.size(); ++i) b.x[i] = std::max(b.y[i] / scale, 1e-300);
+      if (split()) refreshGhostValues(s_, b.x);
+      moved[k] = true;
+    }
+    measure(moved);
   }
-  double value() const { return best_; }  ///< the bound on λ_max
-  /// The particle whose row sets it (its global id in a split run).
-  std::size_t row() const { return row_; }
+  /// The bound on λ_max of matrix k (GainMatrices::kStiffness or kDamping).
+  double value(std::size_t k) const { return bounds_[k].best; }
+  /// The particle whose row sets matrix k's bound (its global id in a split run).
+  std::size_t row(std::size_t k) const { return bounds_[k].row; }
 
  private:
+  struct Bound {
+    std::vector<double> x, y;
+    double best = 0.0;
+    std::size_t row = 0;
+    bool first = true;
+  };
   bool split() const { return s_.split.domains != nullptr; }
   bool mine(std::size_t i) const { return s_.owned.empty() || s_.owned[i]; }
-  void measure() {
-    const std::size_t n = x_.size();
-    for (std::size_t i = 0; i < n; ++i) y_[i] = m_.diagonal[i] * x_[i];
-    for (const GainMatrix::Link& l : m_.links) {
-      y_[l.i] += l.gi * l.gj * x_[l.j];
-      y_[l.j] += l.gi * l.gj * x_[l.i];
+  /// y = B x for the matrices `which`, then their bounds.
+  void measure(std::array<bool, 2> which) {
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!which[k]) continue;
+      Bound& b = bounds_[k];
+      for (std::size_t i = 0; i < b.x.size(); ++i) b.y[i] = m_.diagonal[k][i] * b.x[i];
     }
+    if (which[0] && which[1]) {
+      Bound &a = bounds_[0], &c = bounds_[1];
+      for (const GainMatrices::Link& l : m_.links) {
+        a.y[l.i] += l.weight[0] * a.x[l.j];
+        a.y[l.j] += l.weight[0] * a.x[l.i];
+        c.y[l.i] += l.weight[1] * c.x[l.j];
+        c.y[l.j] += l.weight[1] * c.x[l.i];
+      }
+    } else {
+      for (std::size_t k = 0; k < 2; ++k) {
+        if (!which[k]) continue;
+        Bound& b = bounds_[k];
+        for (const GainMatrices::Link& l : m_.links) {
+          b.y[l.i] += l.weight[k] * b.x[l.j];
+          b.y[l.j] += l.weight[k] * b.x[l.i];
+        }
+      }
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (which[k]) settle(bounds_[k]);
+    }
+  }
+  /// The largest ratio (B x)_i / x_i over the run's particles, kept where it is the smallest
+  /// bound so far.
+  void settle(Bound& b) {
     // A particle without contacts has a zero row: x stays positive there (1), and its ratio 0.
     double largest = 0.0;
     std::size_t at = 0;
     bool found = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double ratio = y_[i] / x_[i];
+    for (std::size_t i = 0; i < b.x.size(); ++i) {
+      const double ratio = b.y[i] / b.x[i];
       if (mine(i) && ratio > largest) largest = ratio, at = i, found = true;
     }
     if (split()) {
@@ -121,22 +176,31 @@ class PowerBound {
       at = run > 0.0 ? static_cast<std::size_t>(-s_.ranks->maxOverRanks(-id)) : 0;
       largest = run;
     }
-    if (first_ || largest < best_) best_ = largest, row_ = at;
-    first_ = false;
+    if (b.first || largest < b.best) b.best = largest, b.row = at;
+    b.first = false;
   }
 
-  const GainMatrix& m_;
+  const GainMatrices& m_;
   const SimulationState& s_;
-  std::vector<double> x_, y_;
-  double best_ = 0.0;
-  std::size_t row_ = 0;
-  bool first_ = true;
+  std::array<Bound, 2> bounds_;
 };
 
-}  // namespace
+/// A network contact and what the walk's `map` made of it.
+template <class R>
+struct Mapped {
+  NetworkContact contact;
+  R value;
+};
 
-void visitNetworkContacts(const SimulationState& s, double lookahead,
-                          const std::function<void(const NetworkContact&)>& visit) {
+/// visitNetworkContacts in two parts, with their types known so that they are called inline
+/// (at every check and scan, once a contact): `reduce(contact, map(contact))` for every contact
+/// in the order visitNetworkContacts gives. A split of the work (`map` may run anywhere, `reduce`
+/// runs in that order) for the walk to go on the pass's threads one day: it was tried on whole
+/// runs of the list's rows, and the records carried between the two parts cost more than the
+/// second thread gave back on the paper's stage 2 (bench/RESULTS.md).
+template <class Map, class Reduce>
+void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, Reduce&& reduce) {
+  using R = std::invoke_result_t<Map&, const NetworkContact&>;
   const Particles& p = s.particles;
   const Material& material = s.config.material;
   const bool hertz = material.normalLaw == NormalLaw::Hertz;
@@ -151,67 +215,62 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
                     bool touching, double relative) {
     const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
     const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-    visit(
-        {i, j, normal, reduced, mass, h + impactOverlap(mass, reduced, u), u, touching, relative});
+    return NetworkContact{i, j,        normal,  reduced, mass, h + impactOverlap(mass, reduced, u),
+                          u, touching, relative};
   };
   auto wallOf = [&](std::size_t i, const Vec3& normal, double u, double h, bool touching,
                     double relative) {
-    visit({i, i, normal, p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u), u,
-           touching, relative});
+    return NetworkContact{i,           i,         normal,
+                          p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u),
+                          u,           touching,  relative};
   };
+  auto visit = [&](const NetworkContact& c) { reduce(c, map(c)); };
 
-  // A pair not touching that closes its gap within the lookahead at its present closing speed:
-  // a candidate about to touch (the neighbour list holds every pair that can touch before it is
-  // rebuilt). `d` runs from i to j, `distance` is its length.
-  struct Candidate {
-    std::size_t i, j;
-    Vec3 normal;
-    double approach, relative;
-  };
-  auto candidate = [&](std::size_t i, std::size_t j, const Vec3& d, double distance,
-                       std::vector<Candidate>& out) {
-    const double gap = distance - p.radius[i] - p.radius[j];
-    if (!(gap > 0.0)) return;
-    const Vec3 v = p.velocity[i] - p.velocity[j];
-    const double u = v.dot(d) / distance;
-    if (!(u > 0.0) || gap > u * lookahead) return;
-    out.push_back({i, j, d / distance, u, v.norm()});
-  };
-
-  // Touching contacts (from each pair's first side), at their overlap (plus an impact's), then
-  // the candidates, pairs before walls: the order the bound's sums take.
   const NeighbourList& list = s.neighbours;
   const bool listed = list.valid && list.rowStart.size() == p.size() + 1;
   const bool ahead = lookahead > 0.0 && listed;
   const bool meshes = std::any_of(s.walls.begin(), s.walls.end(), [](const Wall& w) {
     return w.shape == WallShape::Mesh && !w.removed;
   });
-  std::vector<Candidate> candidates;
-  if (listed && !meshes) {
-    // From the geometry alone: spheres and analytic walls touch where their surfaces overlap,
-    // and the forces, which a measuring pass would evaluate (serially) besides, are not needed.
-    // One walk over the list finds the touching pairs and the candidates; a pair apart and
-    // separating is neither, and is passed over before its distance's square root (the margin
-    // keeps the comparison of squares on the safe side of the rounding).
+  // From the geometry alone where no mesh wall is: spheres and analytic walls touch where their
+  // surfaces overlap, and the forces, which a measuring pass would evaluate (serially) besides,
+  // are not needed. A mesh's sphere may touch several of its triangles: the measuring pass finds
+  // them as the force pass does, and the pairs' walk then looks for candidates only.
+  const bool geometric = listed && !meshes;
+
+  // One walk over the list's pairs: touching pairs (from each pair's first side) at
+  // their overlap (plus an impact's), and candidates about to touch, which close their gap
+  // within the lookahead at their present closing speed (the neighbour list holds every pair
+  // that can touch before it is rebuilt). A pair apart and separating is neither, and is passed
+  // over before its distance's square root (the margin keeps the comparison of squares on the
+  // safe side of the rounding).
+  std::vector<Mapped<R>> candidates;
+  if (listed && (geometric || ahead)) {
     for (std::size_t i = 0; i < p.size(); ++i) {
       for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
         const std::size_t j = list.second[k];
         const Vec3 d = p.position[j] - p.position[i];
+        const Vec3 v = p.velocity[i] - p.velocity[j];
         const double reach = p.radius[i] + p.radius[j], distance2 = d.squaredNorm();
-        if (distance2 > reach * reach * (1.0 + 1e-12) &&
-            !(ahead && (p.velocity[i] - p.velocity[j]).dot(d) > 0.0)) {
-          continue;
-        }
+        if (distance2 > reach * reach * (1.0 + 1e-12) && !(ahead && v.dot(d) > 0.0)) continue;
         const double distance = std::sqrt(distance2);
         const double h = reach - distance;
-        if (!(h > 0.0)) {
-          if (ahead) candidate(i, j, d, distance, candidates);
-          continue;
+        if (geometric && h > 0.0) {
+          const Vec3 normal = d / distance;
+          visit(pairOf(i, j, normal, v.dot(normal), h, true, v.norm()));
         }
-        const Vec3 normal = d / distance, v = p.velocity[i] - p.velocity[j];
-        pairOf(i, j, normal, v.dot(normal), h, true, v.norm());
+        if (!ahead) continue;
+        const double gap = distance - p.radius[i] - p.radius[j];
+        if (!(gap > 0.0)) continue;
+        const double u = v.dot(d) / distance;
+        if (!(u > 0.0) || gap > u * lookahead) continue;
+        const NetworkContact c = pairOf(i, j, d / distance, u, 0.0, false, v.norm());
+        candidates.push_back({c, map(c)});
       }
     }
+  }
+
+  if (geometric) {
     for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
       const Wall& wall = s.walls[w];
       if (wall.removed) continue;
@@ -223,12 +282,10 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
         const Vec3 normal = -touch.normal;  // out of i into the wall
         const Vec3 point = p.position[i] + (p.radius[i] - 0.5 * h) * normal;  // midway
         const Vec3 v = p.velocity[i] - wall.velocityAt(point);
-        wallOf(i, normal, v.dot(normal), h, true, v.norm());
+        visit(wallOf(i, normal, v.dot(normal), h, true, v.norm()));
       }
     }
   } else {
-    // Mesh walls: a sphere may touch several of a mesh's triangles, which the measuring pass
-    // finds as the force pass does.
     visitContacts(
         s,
         [&](const ContactView& c) {
@@ -238,30 +295,20 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
           const std::size_t i = c.particle;
           if (c.isWall()) {
             const Vec3 v = p.velocity[i] - s.walls[c.wall()].velocityAt(c.point);
-            wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
+            visit(wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm()));
           } else {
             const std::size_t j = c.otherParticle();
             if (j < i) return;
             const Vec3 v = p.velocity[i] - p.velocity[j];
-            pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm());
+            visit(pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm()));
           }
         },
         nullptr);
-    if (ahead) {
-      for (std::size_t i = 0; i < p.size(); ++i) {
-        for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-          const std::size_t j = list.second[k];
-          const Vec3 d = p.position[j] - p.position[i];
-          candidate(i, j, d, d.norm(), candidates);
-        }
-      }
-    }
   }
 
+  // Candidates, pairs before walls.
   if (!ahead) return;
-  for (const Candidate& c : candidates) {
-    pairOf(c.i, c.j, c.normal, c.approach, 0.0, false, c.relative);
-  }
+  for (const Mapped<R>& m : candidates) reduce(m.contact, m.value);
   for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
     const Wall& wall = s.walls[w];
     const bool mesh = wall.shape == WallShape::Mesh;
@@ -283,9 +330,18 @@ void visitNetworkContacts(const SimulationState& s, double lookahead,
       const Vec3 v = p.velocity[i] - wall.velocityAt(closest);
       const double u = -v.dot(touch.normal);
       if (!(u > 0.0) || gap > u * lookahead) continue;
-      wallOf(i, -touch.normal, u, 0.0, false, v.norm());
+      visit(wallOf(i, -touch.normal, u, 0.0, false, v.norm()));
     }
   }
+}
+
+}  // namespace
+
+void visitNetworkContacts(const SimulationState& s, double lookahead,
+                          const std::function<void(const NetworkContact&)>& visit) {
+  walkNetworkContacts(
+      s, lookahead, [](const NetworkContact&) { return 0; },
+      [&](const NetworkContact& c, int) { visit(c); });
 }
 
 LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
@@ -345,7 +401,9 @@ class MotionTally {
 
 NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
   MotionTally tally(s);
-  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
+  walkNetworkContacts(
+      s, lookahead, [](const NetworkContact&) { return 0; },
+      [&](const NetworkContact& n, int) { tally.add(n); });
   NetworkFrequency out;
   tally.fill(out);
   return out;
@@ -358,9 +416,8 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   const bool rotations = s.frictional;
   const ContactConstants constants(material, s.config.timeStep);
   const unsigned optional = optionalMask(material);
-  GainMatrix stiffness(p.size()), damping(p.size());
-  stiffness.links.reserve(s.neighbours.second.size());
-  damping.links.reserve(s.neighbours.second.size());
+  GainMatrices gains(p.size());
+  gains.links.reserve(s.neighbours.second.size());
   NetworkFrequency out;
 
   auto body = [&](std::size_t i, double h) {
@@ -369,29 +426,38 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   bool added = false;    // a contact added here
   MotionTally tally(s);  // a split run counts a contact on the rank of its first particle
   // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
-  // on its modes (contact_linearisation.hpp).
-  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
-    const std::size_t i = n.i, j = n.j;
-    const double h = n.overlap;
-    const bool wall = j == i;
+  // on its modes (contact_linearisation.hpp) and their gains on each body, on the pass's
+  // threads; then, in the walk's order, into the gain matrices.
+  struct Linearised {
+    LinearContact linear;
+    double ki = 0, kj = 0, ci = 0, cj = 0;  // the gains of i and j (stiffness, damping)
+  };
+  auto linearise = [&](const NetworkContact& n) {
+    Linearised l{linearisedContact(s, n, constants, optional)};
+    const ContactModes &k = l.linear.stiffness, &c = l.linear.damping;
+    const ContactBody bi = body(n.i, n.overlap);
+    l.ki = contactGain(k, bi, rotations);
+    l.ci = contactGain(c, bi, rotations);
+    if (n.j != n.i) {
+      const ContactBody bj = body(n.j, n.overlap);
+      l.kj = contactGain(k, bj, rotations);
+      l.cj = contactGain(c, bj, rotations);
+    }
+    return l;
+  };
+  walkNetworkContacts(s, lookahead, linearise, [&](const NetworkContact& n, Linearised l) {
     tally.add(n);
-    LinearContact linear = linearisedContact(s, n, constants, optional);
     // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
     // far stands in for it.
-    if (!(linear.stiffness.normal > 0.0)) linear.leastDampingRatio(out.smallestDampingRatio);
-    const double smallest = linear.leastRatio;
+    if (!(l.linear.stiffness.normal > 0.0)) l.linear.leastDampingRatio(out.smallestDampingRatio);
+    const double smallest = l.linear.leastRatio;
     out.smallestDampingRatio = added ? std::min(out.smallestDampingRatio, smallest) : smallest;
     added = true;
-    const ContactModes &k = linear.stiffness, &c = linear.damping;
-    if (wall) {
-      stiffness.wall(i, contactGain(k, body(i, h), rotations));
-      damping.wall(i, contactGain(c, body(i, h), rotations));
-      return;
+    if (n.j == n.i) {
+      gains.wall(n.i, l.ki, l.ci);
+    } else {
+      gains.pair(n.i, n.j, l.ki, l.kj, l.ci, l.cj);
     }
-    stiffness.pair(i, j, contactGain(k, body(i, h), rotations),
-                   contactGain(k, body(j, h), rotations));
-    damping.pair(i, j, contactGain(c, body(i, h), rotations),
-                 contactGain(c, body(j, h), rotations));
   });
 
   tally.fill(out);
@@ -402,17 +468,16 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
   }
-  PowerBound k(stiffness, s), c(damping, s);
+  PowerBounds bounds(gains, s);
   auto fill = [&] {
-    out.omegaMax = std::sqrt(k.value());
-    out.particle = k.row();
-    out.dampingRate = c.value();
+    out.omegaMax = std::sqrt(bounds.value(GainMatrices::kStiffness));
+    out.particle = bounds.row(GainMatrices::kStiffness);
+    out.dampingRate = bounds.value(GainMatrices::kDamping);
     out.dampingRatio = out.omegaMax > 0.0 ? out.dampingRate / (2.0 * out.omegaMax) : 0.0;
   };
   fill();
   for (int sweep = 0; sweep < sweeps && !(enough && enough(out)); ++sweep) {
-    k.next();
-    c.next();
+    bounds.next();
     fill();
   }
   return out;
