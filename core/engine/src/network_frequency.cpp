@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 #include "contact_linearisation.hpp"
@@ -185,22 +184,10 @@ class PowerBounds {
   std::array<Bound, 2> bounds_;
 };
 
-/// A network contact and what the walk's `map` made of it.
-template <class R>
-struct Mapped {
-  NetworkContact contact;
-  R value;
-};
-
-/// visitNetworkContacts in two parts, with their types known so that they are called inline
-/// (at every check and scan, once a contact): `reduce(contact, map(contact))` for every contact
-/// in the order visitNetworkContacts gives. A split of the work (`map` may run anywhere, `reduce`
-/// runs in that order) for the walk to go on the pass's threads one day: it was tried on whole
-/// runs of the list's rows, and the records carried between the two parts cost more than the
-/// second thread gave back on the paper's stage 2 (bench/RESULTS.md).
-template <class Map, class Reduce>
-void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, Reduce&& reduce) {
-  using R = std::invoke_result_t<Map&, const NetworkContact&>;
+/// visitNetworkContacts with the visitor's type known, so that it is called inline (at every
+/// check and scan, once a contact).
+template <class Visit>
+void walkNetworkContacts(const SimulationState& s, double lookahead, Visit&& visit) {
   const Particles& p = s.particles;
   const Material& material = s.config.material;
   const bool hertz = material.normalLaw == NormalLaw::Hertz;
@@ -224,7 +211,6 @@ void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, 
                           p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u),
                           u,           touching,  relative};
   };
-  auto visit = [&](const NetworkContact& c) { reduce(c, map(c)); };
 
   const NeighbourList& list = s.neighbours;
   const bool listed = list.valid && list.rowStart.size() == p.size() + 1;
@@ -244,7 +230,7 @@ void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, 
   // that can touch before it is rebuilt). A pair apart and separating is neither, and is passed
   // over before its distance's square root (the margin keeps the comparison of squares on the
   // safe side of the rounding).
-  std::vector<Mapped<R>> candidates;
+  std::vector<NetworkContact> candidates;  // visited after the touching contacts
   if (listed && (geometric || ahead)) {
     for (std::size_t i = 0; i < p.size(); ++i) {
       for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
@@ -264,8 +250,7 @@ void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, 
         if (!(gap > 0.0)) continue;
         const double u = v.dot(d) / distance;
         if (!(u > 0.0) || gap > u * lookahead) continue;
-        const NetworkContact c = pairOf(i, j, d / distance, u, 0.0, false, v.norm());
-        candidates.push_back({c, map(c)});
+        candidates.push_back(pairOf(i, j, d / distance, u, 0.0, false, v.norm()));
       }
     }
   }
@@ -308,7 +293,7 @@ void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, 
 
   // Candidates, pairs before walls.
   if (!ahead) return;
-  for (const Mapped<R>& m : candidates) reduce(m.contact, m.value);
+  for (const NetworkContact& c : candidates) visit(c);
   for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
     const Wall& wall = s.walls[w];
     const bool mesh = wall.shape == WallShape::Mesh;
@@ -339,9 +324,7 @@ void walkNetworkContacts(const SimulationState& s, double lookahead, Map&& map, 
 
 void visitNetworkContacts(const SimulationState& s, double lookahead,
                           const std::function<void(const NetworkContact&)>& visit) {
-  walkNetworkContacts(
-      s, lookahead, [](const NetworkContact&) { return 0; },
-      [&](const NetworkContact& c, int) { visit(c); });
+  walkNetworkContacts(s, lookahead, visit);
 }
 
 LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
@@ -401,9 +384,7 @@ class MotionTally {
 
 NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
   MotionTally tally(s);
-  walkNetworkContacts(
-      s, lookahead, [](const NetworkContact&) { return 0; },
-      [&](const NetworkContact& n, int) { tally.add(n); });
+  walkNetworkContacts(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
   NetworkFrequency out;
   tally.fill(out);
   return out;
@@ -426,38 +407,27 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   bool added = false;    // a contact added here
   MotionTally tally(s);  // a split run counts a contact on the rank of its first particle
   // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
-  // on its modes (contact_linearisation.hpp) and their gains on each body, on the pass's
-  // threads; then, in the walk's order, into the gain matrices.
-  struct Linearised {
-    LinearContact linear;
-    double ki = 0, kj = 0, ci = 0, cj = 0;  // the gains of i and j (stiffness, damping)
-  };
-  auto linearise = [&](const NetworkContact& n) {
-    Linearised l{linearisedContact(s, n, constants, optional)};
-    const ContactModes &k = l.linear.stiffness, &c = l.linear.damping;
-    const ContactBody bi = body(n.i, n.overlap);
-    l.ki = contactGain(k, bi, rotations);
-    l.ci = contactGain(c, bi, rotations);
-    if (n.j != n.i) {
-      const ContactBody bj = body(n.j, n.overlap);
-      l.kj = contactGain(k, bj, rotations);
-      l.cj = contactGain(c, bj, rotations);
-    }
-    return l;
-  };
-  walkNetworkContacts(s, lookahead, linearise, [&](const NetworkContact& n, Linearised l) {
+  // on its modes (contact_linearisation.hpp), and their gains on each body.
+  walkNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
+    const std::size_t i = n.i, j = n.j;
+    const double h = n.overlap;
     tally.add(n);
+    LinearContact linear = linearisedContact(s, n, constants, optional);
     // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
     // far stands in for it.
-    if (!(l.linear.stiffness.normal > 0.0)) l.linear.leastDampingRatio(out.smallestDampingRatio);
-    const double smallest = l.linear.leastRatio;
+    if (!(linear.stiffness.normal > 0.0)) linear.leastDampingRatio(out.smallestDampingRatio);
+    const double smallest = linear.leastRatio;
     out.smallestDampingRatio = added ? std::min(out.smallestDampingRatio, smallest) : smallest;
     added = true;
-    if (n.j == n.i) {
-      gains.wall(n.i, l.ki, l.ci);
-    } else {
-      gains.pair(n.i, n.j, l.ki, l.kj, l.ci, l.cj);
+    const ContactModes &k = linear.stiffness, &c = linear.damping;
+    const ContactBody bi = body(i, h);
+    if (j == i) {
+      gains.wall(i, contactGain(k, bi, rotations), contactGain(c, bi, rotations));
+      return;
     }
+    const ContactBody bj = body(j, h);
+    gains.pair(i, j, contactGain(k, bi, rotations), contactGain(k, bj, rotations),
+               contactGain(c, bi, rotations), contactGain(c, bj, rotations));
   });
 
   tally.fill(out);
