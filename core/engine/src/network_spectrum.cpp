@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "contact_linearisation.hpp"
@@ -18,8 +19,8 @@ namespace granular {
 
 namespace {
 
-/// One touching contact linearised: its bodies (j = i for a wall), its normal, each body's
-/// lever arm R − h/2, and its modes' springs and dashpots.
+/// One contact linearised, in the estimate's own numbering: its bodies (j = i for a wall), its
+/// normal from i towards j, each body's lever arm R − h/2, and its modes' springs and dashpots.
 struct LinearLink {
   std::uint32_t i = 0, j = 0;
   bool wall = false;
@@ -27,6 +28,152 @@ struct LinearLink {
   double armI = 0, armJ = 0;
   ContactModes stiffness, damping;
 };
+
+/// A contact as every process of a run sees it alike: its bodies by global id (the smaller
+/// first: the normal points from it; a wall's j is its particle's id), then its numbers. All
+/// fields are 8 bytes wide, so the record has no padding and compares as bytes.
+struct CanonicalLink {
+  std::uint64_t i = 0, j = 0, wall = 0;
+  double normal[3] = {0, 0, 0};
+  double armI = 0, armJ = 0;
+  double stiffness[3] = {0, 0, 0}, damping[3] = {0, 0, 0};
+};
+static_assert(sizeof(CanonicalLink) == 14 * 8, "CanonicalLink must have no padding");
+
+/// A body of the network by global id: its mass [kg] and moment of inertia [kg m²].
+struct CanonicalBody {
+  std::uint64_t id = 0;
+  double mass = 0, inertia = 0;
+};
+static_assert(sizeof(CanonicalBody) == 3 * 8, "CanonicalBody must have no padding");
+
+bool before(const CanonicalLink& a, const CanonicalLink& b) {
+  if (a.i != b.i) return a.i < b.i;
+  if (a.j != b.j) return a.j < b.j;
+  return std::memcmp(&a, &b, sizeof a) < 0;
+}
+
+/// The network as every process sees it alike: the links in the order of their bodies' global
+/// ids (ties by their bytes: two links with the same bytes sum alike in either order), the
+/// bodies ascending by id. A contact is the same bits from either of its sides (negations and
+/// symmetric products), so this is the same on one process, any split of the run, and any
+/// spatial order of its particles: an estimate on it is too.
+struct CanonicalNetwork {
+  std::vector<CanonicalLink> links;
+  std::vector<CanonicalBody> bodies;
+};
+
+template <class T>
+void appendBytes(std::vector<std::byte>& out, const std::vector<T>& items) {
+  const std::uint64_t count = items.size();
+  const auto* head = reinterpret_cast<const std::byte*>(&count);
+  out.insert(out.end(), head, head + sizeof count);
+  const auto* body = reinterpret_cast<const std::byte*>(items.data());
+  out.insert(out.end(), body, body + items.size() * sizeof(T));
+}
+
+template <class T>
+std::size_t readBytes(const std::vector<std::byte>& in, std::size_t at, std::vector<T>& items) {
+  std::uint64_t count = 0;
+  std::memcpy(&count, in.data() + at, sizeof count);
+  at += sizeof count;
+  const std::size_t old = items.size();
+  items.resize(old + count);
+  std::memcpy(static_cast<void*>(items.data() + old), in.data() + at, count * sizeof(T));
+  return at + count * sizeof(T);
+}
+
+/// The network's contacts linearised as the bound counts them, in canonical form. In a run
+/// split by space each process keeps the contacts whose first body (by global id) it owns and
+/// every process receives all of them.
+CanonicalNetwork canonicalNetwork(const SimulationState& s, double lookahead) {
+  const Particles& p = s.particles;
+  const ContactConstants constants(s.config.material, s.config.timeStep);
+  const unsigned optional = optionalMask(s.config.material);
+  const bool split = s.split.domains != nullptr;
+  auto id = [&](std::size_t i) -> std::uint64_t { return split ? s.split.globalId[i] : i; };
+  auto mine = [&](std::size_t i) { return !split || s.owned.empty() || s.owned[i] != 0; };
+  CanonicalNetwork net;
+  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
+    const bool wall = n.j == n.i;
+    const bool flip = !wall && id(n.j) < id(n.i);
+    const std::size_t first = flip ? n.j : n.i, second = flip ? n.i : n.j;
+    if (!mine(first)) return;
+    const LinearContact linear = linearisedContact(s, n, constants, optional);
+    CanonicalLink l;
+    l.i = id(first);
+    l.j = id(second);
+    l.wall = wall ? 1 : 0;
+    const Vec3 normal = flip ? Vec3(-n.normal) : n.normal;
+    for (int c = 0; c < 3; ++c) l.normal[c] = normal[c];
+    l.armI = p.radius[first] - 0.5 * linear.overlap;
+    l.armJ = wall ? 0.0 : p.radius[second] - 0.5 * linear.overlap;
+    const ContactModes& k = linear.stiffness;
+    const ContactModes& d = linear.damping;
+    l.stiffness[0] = k.normal, l.stiffness[1] = k.tangential, l.stiffness[2] = k.rolling;
+    l.damping[0] = d.normal, l.damping[1] = d.tangential, l.damping[2] = d.rolling;
+    net.links.push_back(l);
+    net.bodies.push_back({l.i, p.mass[first], p.inertia(first)});
+    if (!wall) net.bodies.push_back({l.j, p.mass[second], p.inertia(second)});
+  });
+  if (split && s.ranks) {
+    std::vector<std::byte> mineBytes;
+    appendBytes(mineBytes, net.links);
+    appendBytes(mineBytes, net.bodies);
+    const std::vector<std::vector<std::byte>> outgoing(std::size_t(s.ranks->size()), mineBytes);
+    const std::vector<std::vector<std::byte>> all = s.ranks->exchange(outgoing);
+    net = CanonicalNetwork{};
+    for (const std::vector<std::byte>& bytes : all) {
+      readBytes(bytes, readBytes(bytes, 0, net.links), net.bodies);
+    }
+  }
+  // By first body in one counting pass (ids are below the run's particle count), then each
+  // body's few links by the rest; the bodies by id the same way.
+  std::uint64_t top = 0;
+  for (const CanonicalBody& b : net.bodies) top = std::max(top, b.id + 1);
+  std::vector<std::size_t> first(top + 1, 0);
+  for (const CanonicalLink& l : net.links) ++first[l.i + 1];
+  for (std::size_t b = 0; b < top; ++b) first[b + 1] += first[b];
+  std::vector<CanonicalLink> sorted(net.links.size());
+  std::vector<std::size_t> next(first.begin(), first.end() - 1);
+  for (const CanonicalLink& l : net.links) sorted[next[l.i]++] = l;
+  for (std::size_t b = 0; b < top; ++b) {
+    std::sort(sorted.begin() + std::ptrdiff_t(first[b]),
+              sorted.begin() + std::ptrdiff_t(first[b + 1]), before);
+  }
+  net.links.swap(sorted);
+  std::vector<CanonicalBody> byId(top);
+  std::vector<std::uint8_t> present(top, 0);
+  for (const CanonicalBody& b : net.bodies) byId[b.id] = b, present[b.id] = 1;
+  net.bodies.clear();
+  for (std::size_t b = 0; b < top; ++b) {
+    if (present[b]) net.bodies.push_back(byId[b]);
+  }
+  return net;
+}
+
+/// The canonical network's links in the numbering of its bodies (their places in `bodies`).
+std::vector<LinearLink> numberedLinks(const CanonicalNetwork& net) {
+  std::vector<LinearLink> links;
+  links.reserve(net.links.size());
+  const std::uint64_t top = net.bodies.empty() ? 0 : net.bodies.back().id + 1;
+  std::vector<std::uint32_t> placeOf(top, 0);
+  for (std::size_t b = 0; b < net.bodies.size(); ++b) placeOf[net.bodies[b].id] = std::uint32_t(b);
+  auto place = [&](std::uint64_t id) { return placeOf[id]; };
+  for (const CanonicalLink& c : net.links) {
+    LinearLink l;
+    l.i = place(c.i);
+    l.wall = c.wall != 0;
+    l.j = l.wall ? l.i : place(c.j);
+    l.normal = Vec3(c.normal[0], c.normal[1], c.normal[2]);
+    l.armI = c.armI;
+    l.armJ = c.armJ;
+    l.stiffness = {c.stiffness[0], c.stiffness[1], c.stiffness[2]};
+    l.damping = {c.damping[0], c.damping[1], c.damping[2]};
+    links.push_back(l);
+  }
+  return links;
+}
 
 /// y = A x (or D x) for the mass-weighted coordinates x: per particle its translation √m u
 /// and, with rotations, its rotation √I φ. Per contact the stretches of its modes (normal
@@ -38,20 +185,20 @@ struct LinearLink {
 /// the same bits on any thread count.
 class NetworkOperator {
  public:
-  NetworkOperator(const std::vector<LinearLink>& links, const Particles& p, bool rotations,
-                  bool damping, int threads)
+  NetworkOperator(const std::vector<LinearLink>& links, const std::vector<CanonicalBody>& bodies,
+                  bool rotations, bool damping, int threads)
       : links_(links),
         rotations_(rotations),
         damping_(damping),
         threads_(threads),
         per_(rotations ? 6 : 3),
         pushes_(links.size()) {
-    const std::size_t n = p.size();
+    const std::size_t n = bodies.size();
     invSqrtMass_.resize(n);
     invSqrtInertia_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      invSqrtMass_[i] = 1.0 / std::sqrt(p.mass[i]);
-      invSqrtInertia_[i] = 1.0 / std::sqrt(p.inertia(i));
+      invSqrtMass_[i] = 1.0 / std::sqrt(bodies[i].mass);
+      invSqrtInertia_[i] = 1.0 / std::sqrt(bodies[i].inertia);
     }
     // Each particle's contacts, in the contacts' order: 2 l for side i of contact l, 2 l + 1
     // for side j.
@@ -239,36 +386,28 @@ NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
   NetworkSpectrum out;
   out.contacts = bound.contacts;
   out.approaching = bound.approaching;
-  if (s.split.domains || bound.contacts + bound.approaching == 0) {
+  if (bound.contacts + bound.approaching == 0) {
     out.omegaMax = bound.omegaMax;
     out.dampingRate = bound.dampingRate;
     return out;
   }
-  const Particles& p = s.particles;
-  const Material& material = s.config.material;
-  const ContactConstants constants(material, s.config.timeStep);
-  const unsigned optional = optionalMask(material);
-  std::vector<LinearLink> links;
-  visitNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
-    const std::size_t i = n.i, j = n.j;
-    const bool wall = j == i;
-    const LinearContact linear = linearisedContact(s, n, constants, optional);
-    LinearLink l;
-    l.i = std::uint32_t(i);
-    l.j = std::uint32_t(j);
-    l.wall = wall;
-    l.normal = n.normal;
-    l.armI = p.radius[i] - 0.5 * linear.overlap;
-    l.armJ = wall ? 0.0 : p.radius[j] - 0.5 * linear.overlap;
-    l.stiffness = linear.stiffness;
-    l.damping = linear.damping;
-    links.push_back(l);
-  });
+  const CanonicalNetwork net = canonicalNetwork(s, lookahead);
+  const std::vector<LinearLink> links = numberedLinks(net);
+  // A start kept for other bodies (the network changed its members) is not this one's.
+  std::vector<std::uint64_t> ids(net.bodies.size());
+  for (std::size_t b = 0; b < ids.size(); ++b) ids[b] = net.bodies[b].id;
+  if (start && start->bodies != ids) {
+    start->stiffness.clear();
+    start->damping.clear();
+  }
   const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
-  const RitzValue k = largestEigenvalue(NetworkOperator(links, p, s.frictional, false, threads),
-                                        iterations, tolerance, start ? &start->stiffness : nullptr);
-  const RitzValue c = largestEigenvalue(NetworkOperator(links, p, s.frictional, true, threads),
-                                        iterations, tolerance, start ? &start->damping : nullptr);
+  const RitzValue k =
+      largestEigenvalue(NetworkOperator(links, net.bodies, s.frictional, false, threads),
+                        iterations, tolerance, start ? &start->stiffness : nullptr);
+  const RitzValue c =
+      largestEigenvalue(NetworkOperator(links, net.bodies, s.frictional, true, threads), iterations,
+                        tolerance, start ? &start->damping : nullptr);
+  if (start) start->bodies = std::move(ids);
   out.omegaMax = std::min(std::sqrt(std::max(k.value, 0.0)), bound.omegaMax);
   out.dampingRate = std::min(std::max(c.value, 0.0), bound.dampingRate);
   out.omegaResidual = k.residual;

@@ -7,6 +7,7 @@
 /// products on settled beds (tests/test_network_frequency.cpp), where the bound is 1.3–1.5 ×
 /// above; capped by the bound, which stays the outer limit.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "granular/simulation.hpp"
@@ -27,11 +28,13 @@ struct NetworkSpectrum {
   int products = 0;             ///< matrix–vector products, A's and D's together
 };
 
-/// What an estimate leaves for the next one on the same particles: the Ritz vectors of A and D.
-/// Started from them, an estimate on a network that has changed little needs a few products
-/// instead of tens. Empty (a cold start) where the particle count changed or the network is too
-/// large to keep the Lanczos basis (64 MB).
+/// What an estimate leaves for the next one on the same bodies: the Ritz vectors of A and D,
+/// over the bodies with contacts by global id (`bodies`). Started from them, an estimate on a
+/// network that has changed little needs a few products instead of tens. Not used (a cold
+/// start) where another set of bodies has contacts, or the network is too large to keep the
+/// Lanczos basis (64 MB).
 struct NetworkSpectrumStart {
+  std::vector<std::uint64_t> bodies;
   std::vector<double> stiffness, damping;
 };
 
@@ -39,9 +42,11 @@ struct NetworkSpectrumStart {
 /// contacts about to touch within it, linearised as the bound counts them
 /// (granular/network_frequency.hpp), by at most `iterations` Lanczos steps on
 /// each matrix (fewer where the Ritz pair's residual falls below `tolerance` of its value),
-/// from `start` where it fits and a fixed vector otherwise, on the engine's threads: the same
-/// bits on any thread count. `start` (may be null) then holds this estimate's Ritz vectors. A
-/// run split among processes gets the bound (granular/network_frequency.hpp) in both values.
+/// from `start` where it fits and a fixed vector otherwise, on the engine's threads. The
+/// contacts are numbered by their bodies' global ids (a run split among processes gathers them
+/// all on every process): the same bits on any thread count, any split among processes and
+/// any order of the particles in memory. `start` (may be null) then holds this estimate's Ritz
+/// vectors. Collective in a split run.
 NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead = 0.0,
                                         NetworkSpectrumStart* start = nullptr, int iterations = 40,
                                         double tolerance = 1e-2);
