@@ -240,6 +240,8 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   // and after it the step counters and the last check, new in 7: 2 counts, 3 ratios or steps,
   // then 4 numbers, the row and contact count, 2 steps.
   material += 8 + 8 + 3 * 8 + 4 * 8 + 8 + 8 + 2 * 8;
+  // and after them whether the last check estimated, and the spectrum's calibration, new in 8.
+  material += 1 + 4 * 8;
   bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);

@@ -560,6 +560,9 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   w(counters.smallestStep), w(counters.largestStep);
   w(check.time), w(check.networkStep), w(check.omegaMax), w(check.dampingRatio);
   w(check.particle), w(check.contacts), w(check.accuracyStep), w(check.chosenStep);
+  NetworkCalibration calibration = state.calibration;  // version 8
+  w(check.estimated), w(calibration.boundOmega), w(calibration.boundDamping);
+  w(calibration.omega), w(calibration.damping);
   if (std::any_of(state.walls.begin(), state.walls.end(),
                   [](const Wall& x) { return x.shell(); })) {
     std::string tag(kWallShapesTag);
@@ -720,6 +723,16 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     r(k.largestStep);
     r(c.time), r(c.networkStep), r(c.omegaMax), r(c.dampingRatio), r(c.particle), r(c.contacts);
     r(c.accuracyStep), r(c.chosenStep);
+  }
+  if (version >= 8) {
+    NetworkCalibration& c = state->calibration;
+    r(state->stepCheck.estimated), r(c.boundOmega), r(c.boundDamping), r(c.omega), r(c.damping);
+    const bool sane = std::isfinite(c.boundOmega) && std::isfinite(c.boundDamping) &&
+                      std::isfinite(c.omega) && std::isfinite(c.damping) && c.boundOmega >= 0 &&
+                      c.boundDamping >= 0 && c.omega >= 0 && c.damping >= 0;
+    if (!sane) {
+      throw CheckpointError(name + ": corrupted checkpoint: the spectrum's calibration is invalid");
+    }
   }
   NeighbourList& list = state->neighbours;
   // The optional trailing sections, each tagged, in the order written.

@@ -6,6 +6,7 @@
 
 #include "contact_constants.hpp"
 #include "granular/network_frequency.hpp"
+#include "granular/network_spectrum.hpp"
 #include "granular/network_step.hpp"
 
 namespace granular {
@@ -44,6 +45,10 @@ NetworkFrequency networkMotion(const SimulationState& s, double lookahead);
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);
+/// networkSpectrumEstimate (granular/network_spectrum.hpp) on the engine's state.
+NetworkSpectrum networkSpectrumEstimate(const SimulationState& s, double lookahead,
+                                        NetworkSpectrumStart* start, int iterations,
+                                        double tolerance);
 /// The step a bound allows `integrator`: its interval over the bound's damping ratios, over
 /// ω_max (+∞ with no contacts).
 double networkStepOf(Integrator integrator, const NetworkFrequency& f);

@@ -380,7 +380,13 @@ RitzValue largestEigenvalue(const NetworkOperator& op, int iterations, double to
 NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
                                         NetworkSpectrumStart* start, int iterations,
                                         double tolerance) {
-  const SimulationState& s = SimulationAccess::state(sim);
+  return networkSpectrumEstimate(SimulationAccess::state(sim), lookahead, start, iterations,
+                                 tolerance);
+}
+
+NetworkSpectrum networkSpectrumEstimate(const SimulationState& s, double lookahead,
+                                        NetworkSpectrumStart* start, int iterations,
+                                        double tolerance) {
   // The outer limit: Gershgorin's bound, without the sweeps (any upper bound caps).
   const NetworkFrequency bound = networkFrequencyBound(s, 0, lookahead, nullptr);
   NetworkSpectrum out;

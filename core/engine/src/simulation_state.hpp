@@ -301,6 +301,7 @@ struct SimulationState {
   double targetStep = 0.0;
   std::uint64_t stepsSinceCheck = 0;         ///< steps since the step was last checked
   StepCheck stepCheck;                       ///< the last check
+  NetworkCalibration calibration;            ///< the estimate against the bound
   studies::StepControlCost stepControlCost;  ///< the reviews inside the steps (not checkpointed)
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle

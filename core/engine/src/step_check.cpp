@@ -70,9 +70,46 @@ double lookaheadOf(const SimulationState& s, Integrator integrator, double dt) {
   return 2.0 * static_cast<double>(control.recheckSteps) * longest;
 }
 
+/// How far the bound may move from its calibration's before the estimate is made again.
+constexpr double kCalibratedOmega = 0.05, kCalibratedDamping = 0.10;
+
+/// Whether `c` holds for the bound `f`: made, and the bound within its reach since.
+bool calibrated(const NetworkCalibration& c, const NetworkFrequency& f) {
+  if (!(c.boundOmega > 0.0) || !(c.omega > 0.0)) return false;
+  if (std::abs(f.omegaMax / c.boundOmega - 1.0) > kCalibratedOmega) return false;
+  if (!(c.boundDamping > 0.0)) return f.dampingRate == 0.0;
+  return std::abs(f.dampingRate / c.boundDamping - 1.0) <= kCalibratedDamping;
+}
+
+/// The estimate's ω_max and Γ for the bound `f` (NetworkCalibration), calibrated again in `c`
+/// where it does not hold. A cold Lanczos start each time: what it gives depends on the state
+/// alone, so that a resumed run and a split one choose the same steps.
+NetworkFrequency estimated(const SimulationState& s, const NetworkFrequency& f, double lookahead,
+                           NetworkCalibration& c) {
+  if (!calibrated(c, f)) {
+    const NetworkSpectrum e = networkSpectrumEstimate(s, lookahead, nullptr, 40, 1e-2);
+    c.boundOmega = f.omegaMax;
+    c.boundDamping = f.dampingRate;
+    c.omega = e.omegaMax;
+    c.damping = e.dampingRate;
+  }
+  NetworkFrequency g = f;
+  if (c.omega > 0.0) g.omegaMax = std::min(f.omegaMax, f.omegaMax * (c.omega / c.boundOmega));
+  if (c.boundDamping > 0.0) {
+    g.dampingRate = std::min(f.dampingRate, f.dampingRate * (c.damping / c.boundDamping));
+  }
+  g.dampingRatio = g.omegaMax > 0.0 ? g.dampingRate / (2.0 * g.omegaMax) : 0.0;
+  return g;
+}
+
 /// The network's stable step for `integrator` now, counting the contacts that may form within
-/// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor.
-StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt) {
+/// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor. Where the
+/// bound refuses what is needed (the step asked for, or the floor an automatic step would
+/// take), velocity Verlet's step comes from the estimate (NetworkCalibration) kept in
+/// `calibration` (null: made for this check alone). Gear5 keeps the bound: its binary limit
+/// caps it below the network's step anyway.
+StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt,
+                      NetworkCalibration* calibration) {
   const StepControl& control = s.config.step;
   const double lookahead = lookaheadOf(s, integrator, dt);
   StepCheck c;
@@ -91,11 +128,19 @@ StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt
   c.approachSpeed = f.fastestApproach;
   c.accuracyStep = accuracyFloor(s, integrator, f, stored);
   c.time = clockNow(s);
-  c.omegaMax = f.omegaMax;
-  c.dampingRatio = f.dampingRatio;
   c.particle = f.particle;
   c.contacts = f.contacts + f.approaching;
-  c.networkStep = networkStepOf(integrator, f);
+  const double needed = control.automatic ? c.accuracyStep / control.safety : dt;
+  NetworkFrequency used = f;
+  if (integrator == Integrator::VelocityVerlet && c.contacts > 0 &&
+      needed > networkStepOf(integrator, f)) {
+    NetworkCalibration alone;
+    used = estimated(s, f, lookahead, calibration ? *calibration : alone);
+    c.estimated = true;
+  }
+  c.omegaMax = used.omegaMax;
+  c.dampingRatio = used.dampingRatio;
+  c.networkStep = networkStepOf(integrator, used);
   c.chosenStep = control.automatic ? std::min(control.safety * c.networkStep, c.accuracyStep) : dt;
   return c;
 }
@@ -110,9 +155,10 @@ std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrato
       << " × it): " << (gear ? "gear5" : "velocity Verlet")
       << " is stable for ω Δt <= " << c.networkStep * c.omegaMax
       << " at the network's damping ratio " << c.dampingRatio
-      << " (physics.md §2.15), and the network's highest frequency is at most " << c.omegaMax
-      << " rad/s (bounded from " << c.contacts << " contacts; particle " << c.particle
-      << "'s row sets it)";
+      << " (physics.md §2.15), and the network's highest frequency is "
+      << (c.estimated ? "about " : "at most ") << c.omegaMax << " rad/s ("
+      << (c.estimated ? "estimated" : "bounded") << " from " << c.contacts << " contacts; particle "
+      << c.particle << "'s row sets the bound)";
   return msg.str();
 }
 
@@ -134,7 +180,7 @@ double clockNow(const SimulationState& s) {
 }
 
 StepCheck requireAllowedStep(const SimulationState& s, double dt, Integrator integrator) {
-  const StepCheck c = measureStep(s, integrator, dt);
+  const StepCheck c = measureStep(s, integrator, dt, nullptr);
   if (c.contacts == 0 || integrator == Integrator::Gear5) {
     // Nothing to bound yet: the stiffest binary contact's fraction, set from the worst bed
     // measured (bench/RESULTS.md, "Gear in a bed"), stands in until contacts form.
@@ -153,7 +199,7 @@ void checkStep(SimulationState& s) {
   s.stepsSinceCheck = 0;
   ++s.counters.stepChecks;
   const double target = targetStep(s);
-  StepCheck c = measureStep(s, s.config.integrator, target);
+  StepCheck c = measureStep(s, s.config.integrator, target, &s.calibration);
   s.stepCheck = c;
   s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
 

@@ -46,9 +46,13 @@ class CheckpointError : public std::runtime_error {
 /// 7: the step counters (checks, unstable checks, the worst ratio, the smallest and largest
 ///    step) and the last check (StepCheck), after the step control: a resumed run's summary
 ///    counts from the start (older files: from the resume).
+/// 8: whether the last check's frequency was estimated (StepCheck::estimated) and the
+///    spectrum's calibration (NetworkCalibration), after the last check: an automatic run that
+///    takes its step from the estimate resumes bit for bit (older files: none, made again at
+///    the next check).
 /// Versions 2 to 5 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 7;
+inline constexpr std::uint32_t kCheckpointVersion = 8;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

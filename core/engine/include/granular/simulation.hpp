@@ -196,6 +196,20 @@ struct StepCheck {
   /// config.impactSpeed.
   double approachSpeed = 0;
   double chosenStep = 0;  ///< the step taken from then on [s]
+  /// Whether ω_max and the damping ratio are the Lanczos estimate's (the bound scaled by its
+  /// calibration, NetworkCalibration) rather than the bound's: where the bound refuses the
+  /// step asked for (velocity Verlet).
+  bool estimated = false;
+};
+
+/// The network's spectrum estimated against its bound at one check (docs/physics.md §2.16):
+/// the bound's ω_max and Γ then and Lanczos's (granular/network_spectrum.hpp). Between
+/// calibrations each check scales its bound by estimate / bound, and calibrates again where
+/// the bound has moved by more than 5 % (ω) or 10 % (Γ) since: the bound follows the network,
+/// the ratio of the two is slow (1.44–1.46 on the paper's stage 2). 0: none yet.
+struct NetworkCalibration {
+  double boundOmega = 0, boundDamping = 0;  ///< [rad/s], [1/s]
+  double omega = 0, damping = 0;            ///< the estimate's [rad/s], [1/s]
 };
 
 /// The particles a run has held, taken in and let out (Simulation::exchangeParticles).
