@@ -135,8 +135,10 @@ TEST(RunRestart, KilledTwiceAndResumedEndsBitForBitLikeAnUninterruptedRun) {
 
 TEST(RunRestart, AnAutomaticStepKilledAndResumedEndsBitForBit) {
   // time_step = "auto": the chosen step, its target and the steps since its last check travel
-  // in the checkpoint (format 6), and a stage resumes at its stage time, so the resumed run
-  // chooses the same steps and lands on the same sample times.
+  // in the checkpoint (format 6), with the spectrum's calibration that Verlet's step comes
+  // from once the network governs (format 8; this test fails when a resume drops it), and a
+  // stage resumes at its stage time, so the resumed run chooses the same steps and lands on
+  // the same sample times.
   const fs::path dir = freshDir("auto_scene");
   fs::create_directories(dir);
   const std::string text = slurp(kScene);

@@ -218,9 +218,10 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
   std::printf("particle_steps_per_s = %.6g\n", n * double(result.steps) / wall);
   std::printf("list_rebuilds = %llu\n", static_cast<unsigned long long>(sim.counters().rebuilds));
   const studies::StepControlCost cost = studies::stepControlCost(sim);
-  std::printf("step_reviews = %llu checks, %llu scans\n",
+  std::printf("step_reviews = %llu checks, %llu scans, %llu calibrations\n",
               static_cast<unsigned long long>(cost.checks),
-              static_cast<unsigned long long>(cost.scans));
+              static_cast<unsigned long long>(cost.scans),
+              static_cast<unsigned long long>(cost.calibrations));
   std::printf("step_control_s = %.6f\n", cost.seconds);
   std::printf("top_z_m = %.9f\n", box.upper.z());
   std::printf("state_hash = %016llx\n", static_cast<unsigned long long>(whole.stateHash()));

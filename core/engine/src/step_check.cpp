@@ -199,7 +199,9 @@ void checkStep(SimulationState& s) {
   s.stepsSinceCheck = 0;
   ++s.counters.stepChecks;
   const double target = targetStep(s);
+  const double calibratedAt = s.calibration.boundOmega;
   StepCheck c = measureStep(s, s.config.integrator, target, &s.calibration);
+  if (s.calibration.boundOmega != calibratedAt) ++s.stepControlCost.calibrations;
   s.stepCheck = c;
   s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
 

@@ -25,6 +25,8 @@ void disableStepLimit(Simulation& sim, bool off);
 /// run (bench/peer/peer_stage2.cpp).
 struct StepControlCost {
   std::uint64_t checks = 0, scans = 0;
+  /// The checks that made the spectrum's estimate (NetworkCalibration), a cold Lanczos run each.
+  std::uint64_t calibrations = 0;
   double seconds = 0.0;
 };
 StepControlCost stepControlCost(const Simulation& sim);
