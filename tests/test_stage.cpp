@@ -288,3 +288,53 @@ TEST(Stage, ResumedFromACheckpointEndsAsIfItNeverStopped) {
 
 }  // namespace
 }  // namespace granular
+
+namespace granular {
+namespace {
+
+TEST(Stage, AnAutomaticStepAboveItsFloorLandsOnEverySampleAndOnTheStagesEnd) {
+  // A settled bed at "auto": the floor stretched, the step (the network's) is longer than
+  // t_c/10, the step the stage used to assume no step exceeds. Samples every 0.01 s are
+  // taken at their times exactly, and a stage with no sample inside it ends at its end.
+  SimulationConfig cfg;
+  cfg.material.normalLaw = NormalLaw::Hertz;
+  cfg.material.friction = 0.3;
+  cfg.material.normalDamping = 200.0;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.impactSpeed = 3.0;
+  cfg.step.automatic = true;
+  Simulation sim = granular::testing::fallingGrid(3, 3, 3, cfg, 0.3);
+  sim.advanceTo(2.5);
+  const double floor = sim.contactScale().duration / cfg.step.contactResolution;
+  ASSERT_GT(sim.stepCheck().chosenStep, 1.5 * floor);
+
+  OutputSpec output;
+  output.interval = 0.01;
+  std::vector<double> sampled;
+  StageObserver observer;
+  const double start = sim.time();
+  observer.onSample = [&](const Simulation& s) { sampled.push_back(s.time() - start); };
+  // A kinetic-energy end (never reached here) makes the stage look after every step: a batch
+  // of one step wherever the next sample is more than a floor's step away.
+  StageSpec stage = stageOf(0.2);
+  stage.resetClock = false;
+  stage.end.kineticEnergyBelow = 1e-30;
+  runStage(sim, stage, output, observer);
+  ASSERT_EQ(sampled.size(), 21u);
+  for (std::size_t k = 0; k < sampled.size(); ++k) {
+    EXPECT_NEAR(sampled[k], 0.01 * double(k), 1e-9) << "sample " << k;
+  }
+
+  // None inside a stage of 3000 floor steps (batches of 1000): its end is the one event.
+  const double duration = 3000.0 * floor;
+  output.interval = 2.0 * duration;
+  const double before = sim.time();
+  StageSpec last = stageOf(duration);
+  last.resetClock = false;
+  const StageResult r = runStage(sim, last, output, StageObserver{});
+  EXPECT_DOUBLE_EQ(r.duration, duration);
+  EXPECT_NEAR(sim.time() - before, duration, 1e-9);
+}
+
+}  // namespace
+}  // namespace granular

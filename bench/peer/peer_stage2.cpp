@@ -191,8 +191,16 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
     };
   }
 
+  // No samples or snapshots inside the stage: nothing here writes them, and the peers' runs
+  // take none at fixed times (their series is per step, as --series is here). A scene's
+  // output interval would have an automatic step land on every sample time exactly, steps
+  // the peers do not take (bench/RESULTS.md, "The step from the estimate").
+  OutputSpec output = scene.output;
+  output.interval = stage.end.maxTime;
+  output.snapshotTimes.clear();
+  stage.snapshotTimes.reset();
   const auto start = std::chrono::steady_clock::now();
-  const StageResult result = runStage(sim, stage, scene.output, observer);
+  const StageResult result = runStage(sim, stage, output, observer);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

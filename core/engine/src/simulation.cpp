@@ -336,6 +336,24 @@ void Simulation::run(std::uint64_t steps) {
   for (std::uint64_t k = 0; k < steps; ++k) stepOnce(*state_, k + 1 < steps);
 }
 
+std::uint64_t Simulation::runBefore(std::uint64_t steps, double t) {
+  SimulationState& s = *state_;
+  // Whether the next step ends at or before t, the clock after it computed as clockNow will
+  // then compute it (a hair of the step's length allowed for the rounding of t).
+  auto fits = [&](std::uint64_t ahead) {
+    const double end = s.timeOrigin + double(s.stepsSinceOrigin + ahead) * s.config.timeStep;
+    return end <= t + 1e-9 * s.config.timeStep;
+  };
+  std::uint64_t taken = 0;
+  while (taken < steps && fits(1)) {
+    // The next step is predicted in this one's corrector only where it will be taken: it fits
+    // at this step (a check, which may change the step, takes no prediction).
+    stepOnce(s, taken + 1 < steps && fits(2));
+    ++taken;
+  }
+  return taken;
+}
+
 void Simulation::advanceTo(double t) {
   SimulationState& s = *state_;
   requireConfig(std::isfinite(t) && t >= clockNow(s) - 1e-9 * targetStep(s),

@@ -180,14 +180,17 @@ StageResult runStageAutomatic(Simulation& sim, const StageSpec& stage, const Out
                          observer.checkpointSteps > 0 && observer.onCheckpoint
                              ? observer.checkpointSteps
                              : std::uint64_t(1000)));
-  // The longest step the control may choose: its accuracy floor.
+  // The longest step the control may choose while contacts strike: its accuracy floor.
   const double longest = sim.contactScale().duration / sim.config().step.contactResolution;
   while (t + tolerance < stage.end.maxTime) {
     const double event = std::min({stage.end.maxTime, clock.nextEvent(), exchange.next()});
     if (event - t > double(run) * longest) {
-      sim.run(run);  // whole steps: none reaches the event
+      // Whole steps, none reaching the event: the floor stretched, the step may grow past it
+      // at any check, so each is measured against the event before it is taken. Where the
+      // next would reach it, the landing steps.
+      if (sim.runBefore(run, origin + event - tolerance) == 0) sim.advanceTo(origin + event);
     } else {
-      sim.advanceTo(origin + event);
+      sim.advanceTo(origin + event);  // the stretch to the event in equal steps
     }
     n = sim.stepCount() - start;
     t = sim.time() - origin;

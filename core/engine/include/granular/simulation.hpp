@@ -285,6 +285,10 @@ class Simulation {
   /// predicts the next one in its corrector's loop (one pass over the integrator's arrays a
   /// step instead of two). Drivers that look at the state only every so often should prefer it.
   void run(std::uint64_t steps);
+  /// run(steps), stopping before a step that would end after t [s] (an automatic step may grow
+  /// at any check, so how many steps fit before t is known only step by step). The same bits
+  /// as run(k) for the k steps it takes; returns k.
+  std::uint64_t runBefore(std::uint64_t steps, double t);
 
   double time() const;              ///< simulated time [s]
   void setTime(double t);           ///< resets the clock (a stage's own time scale)
