@@ -79,7 +79,9 @@ std::size_t readBytes(const std::vector<std::byte>& in, std::size_t at, std::vec
   at += sizeof count;
   const std::size_t old = items.size();
   items.resize(old + count);
-  std::memcpy(static_cast<void*>(items.data() + old), in.data() + at, count * sizeof(T));
+  if (count > 0) {
+    std::memcpy(static_cast<void*>(items.data() + old), in.data() + at, count * sizeof(T));
+  }
   return at + count * sizeof(T);
 }
 
