@@ -12,6 +12,7 @@
 
 #include "contact_linearisation.hpp"
 #include "granular/network_frequency.hpp"
+#include "message_bytes.hpp"
 #include "network_bound.hpp"
 #include "simulation_state.hpp"
 
@@ -63,28 +64,6 @@ struct CanonicalNetwork {
   std::vector<CanonicalBody> bodies;
 };
 
-template <class T>
-void appendBytes(std::vector<std::byte>& out, const std::vector<T>& items) {
-  const std::uint64_t count = items.size();
-  const auto* head = reinterpret_cast<const std::byte*>(&count);
-  out.insert(out.end(), head, head + sizeof count);
-  const auto* body = reinterpret_cast<const std::byte*>(items.data());
-  out.insert(out.end(), body, body + items.size() * sizeof(T));
-}
-
-template <class T>
-std::size_t readBytes(const std::vector<std::byte>& in, std::size_t at, std::vector<T>& items) {
-  std::uint64_t count = 0;
-  std::memcpy(&count, in.data() + at, sizeof count);
-  at += sizeof count;
-  const std::size_t old = items.size();
-  items.resize(old + count);
-  if (count > 0) {
-    std::memcpy(static_cast<void*>(items.data() + old), in.data() + at, count * sizeof(T));
-  }
-  return at + count * sizeof(T);
-}
-
 /// The network's contacts linearised as the bound counts them, in canonical form. In a run
 /// split by space each process keeps the contacts whose first body (by global id) it owns and
 /// every process receives all of them.
@@ -120,13 +99,15 @@ CanonicalNetwork canonicalNetwork(const SimulationState& s, double lookahead) {
   });
   if (split && s.ranks) {
     std::vector<std::byte> mineBytes;
-    appendBytes(mineBytes, net.links);
-    appendBytes(mineBytes, net.bodies);
+    putArray(mineBytes, net.links);
+    putArray(mineBytes, net.bodies);
     const std::vector<std::vector<std::byte>> outgoing(std::size_t(s.ranks->size()), mineBytes);
     const std::vector<std::vector<std::byte>> all = s.ranks->exchange(outgoing);
     net = CanonicalNetwork{};
     for (const std::vector<std::byte>& bytes : all) {
-      readBytes(bytes, readBytes(bytes, 0, net.links), net.bodies);
+      std::size_t at = 0;
+      getArray(bytes, at, net.links);
+      getArray(bytes, at, net.bodies);
     }
   }
   // By first body in one counting pass (ids are below the run's particle count), then each
