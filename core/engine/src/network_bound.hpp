@@ -45,10 +45,11 @@ NetworkFrequency networkMotion(const SimulationState& s, double lookahead);
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);
-/// networkSpectrumEstimate (granular/network_spectrum.hpp) on the engine's state.
+/// networkSpectrumEstimate (granular/network_spectrum.hpp) on the engine's state, capped by
+/// `bound`, a bound on the same contacts (the same `lookahead`) that the caller has already.
 NetworkSpectrum networkSpectrumEstimate(const SimulationState& s, double lookahead,
-                                        NetworkSpectrumStart* start, int iterations,
-                                        double tolerance);
+                                        const NetworkFrequency& bound, NetworkSpectrumStart* start,
+                                        int iterations, double tolerance);
 /// The step a bound allows `integrator`: its interval over the bound's damping ratios, over
 /// ω_max (+∞ with no contacts).
 double networkStepOf(Integrator integrator, const NetworkFrequency& f);

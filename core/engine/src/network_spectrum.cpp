@@ -363,15 +363,15 @@ RitzValue largestEigenvalue(const NetworkOperator& op, int iterations, double to
 NetworkSpectrum networkSpectrumEstimate(const Simulation& sim, double lookahead,
                                         NetworkSpectrumStart* start, int iterations,
                                         double tolerance) {
-  return networkSpectrumEstimate(SimulationAccess::state(sim), lookahead, start, iterations,
-                                 tolerance);
+  const SimulationState& s = SimulationAccess::state(sim);
+  // The outer limit: Gershgorin's bound, without the sweeps (any upper bound caps).
+  return networkSpectrumEstimate(s, lookahead, networkFrequencyBound(s, 0, lookahead, nullptr),
+                                 start, iterations, tolerance);
 }
 
 NetworkSpectrum networkSpectrumEstimate(const SimulationState& s, double lookahead,
-                                        NetworkSpectrumStart* start, int iterations,
-                                        double tolerance) {
-  // The outer limit: Gershgorin's bound, without the sweeps (any upper bound caps).
-  const NetworkFrequency bound = networkFrequencyBound(s, 0, lookahead, nullptr);
+                                        const NetworkFrequency& bound, NetworkSpectrumStart* start,
+                                        int iterations, double tolerance) {
   NetworkSpectrum out;
   out.contacts = bound.contacts;
   out.approaching = bound.approaching;

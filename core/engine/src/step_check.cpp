@@ -87,7 +87,7 @@ bool calibrated(const NetworkCalibration& c, const NetworkFrequency& f) {
 NetworkFrequency estimated(const SimulationState& s, const NetworkFrequency& f, double lookahead,
                            NetworkCalibration& c) {
   if (!calibrated(c, f)) {
-    const NetworkSpectrum e = networkSpectrumEstimate(s, lookahead, nullptr, 40, 1e-2);
+    const NetworkSpectrum e = networkSpectrumEstimate(s, lookahead, f, nullptr, 40, 1e-2);
     c.boundOmega = f.omegaMax;
     c.boundDamping = f.dampingRate;
     c.omega = e.omegaMax;
