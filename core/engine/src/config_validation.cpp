@@ -109,12 +109,12 @@ void requireDistinctCentres(const Particles& p) {
 
 void requireWallFrictionWithin(const std::vector<Wall>& walls, const Material& material) {
   for (const Wall& w : walls) {
-    // Frictionless particles run without rotations or springs: no wall can grip them. (The
-    // message is built only for a wall that has a friction of its own.)
-    if (!(w.friction && *w.friction > 0.0) || material.hasFriction()) continue;
-    requireConfig(false, "wall " + w.name + ": friction = " + shortNumber(*w.friction) +
-                             " needs frictional particles (material friction > 0); the particles "
-                             "are frictionless");
+    // Frictionless particles run without rotations or springs: no wall can grip them.
+    if (w.friction && *w.friction > 0.0 && !material.hasFriction()) {
+      throw ConfigError("wall " + w.name + ": friction = " + shortNumber(*w.friction) +
+                        " needs frictional particles (material friction > 0); the particles are "
+                        "frictionless");
+    }
   }
 }
 
