@@ -514,6 +514,14 @@ int runScene(const RunOptions& options) {
     summary << ", " << counted.unstableChecks << " found the step above it (up to "
             << format("%.3g", counted.worstStepRatio) << " x)";
   }
+  if (counted.rollbacks > 0) {
+    summary << ", " << counted.rollbacks
+            << " found a growing mode and took the steps since the last again at a shorter step";
+  }
+  if (counted.keptGrowths > 0) {
+    summary << ", " << counted.keptGrowths
+            << " found a growing mode too late to undo (its energy stays in the ledger)";
+  }
   summary << "\n";
   summary << "final kinetic energy: " << format("%.6e", finalKinetic) << " J\n"
           << "state hash: " << hexHash(whole.stateHash()) << "\n"

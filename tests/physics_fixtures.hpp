@@ -77,6 +77,23 @@ inline Simulation fallingGrid(int nx, int ny, int nz, const SimulationConfig& cf
   return Simulation(std::move(p), std::move(walls), cfg);
 }
 
+/// A Hertz bed (μ = 0.3, γn = 200) of nx × ny × nz spheres fallen and settled for 2.5 s at an
+/// automatic velocity-Verlet step on `threads` threads: at rest its accuracy floor stretches, and
+/// the step comes from the network's spectrum (its estimate, docs/physics.md §2.16).
+inline Simulation settledAutomaticBed(int nx = 3, int ny = 3, int nz = 3, int threads = 0) {
+  SimulationConfig cfg;
+  cfg.material.normalLaw = NormalLaw::Hertz;
+  cfg.material.friction = 0.3;
+  cfg.material.normalDamping = 200.0;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.impactSpeed = 3.0;
+  cfg.step.automatic = true;
+  cfg.threads = threads;
+  Simulation sim = fallingGrid(nx, ny, nz, cfg, 0.3);
+  sim.advanceTo(2.5);
+  return sim;
+}
+
 /// A bed at rest: after `settle` seconds, over the next `watch`, the largest kinetic energy
 /// and the largest move of the ledger's total, each as a fraction of gravity's work so far.
 struct RestingBed {

@@ -16,114 +16,16 @@
 #include "granular/network_frequency.hpp"
 #include "granular/network_spectrum.hpp"
 #include "granular/network_step.hpp"
+#include "network_matrices.hpp"
 #include "physics_fixtures.hpp"
 
 using namespace granular;
+using granular::testing::exactOmegaMax;
+using granular::testing::largestEigenvalue;
+using granular::testing::networkMatrix;
+using granular::testing::verletStepRadius;
 
 namespace {
-
-/// n × (the vector): the cross-product matrix [n]×.
-Eigen::Matrix3d crossMatrix(const Vec3& n) {
-  Eigen::Matrix3d c;
-  c << 0, -n.z(), n.y(), n.z(), 0, -n.x(), -n.y(), n.x(), 0;
-  return c;
-}
-
-/// The linearised network's mass-weighted stiffness matrix A = M^(-1/2) K M^(-1/2) and, with
-/// `damping`, its dashpots' D = M^(-1/2) C M^(-1/2): per contact the stretches (normal;
-/// tangential at the contact point, u_i − u_j + a_i φ_i × n + a_j φ_j × n projected on the
-/// tangent plane; rolling, φ_i − φ_j projected), each weighted by √k (or √c), as a matrix G of
-/// the mass-weighted displacements; A = Σ G^T G.
-Eigen::MatrixXd networkMatrix(const Simulation& sim, bool damping);
-
-/// The largest eigenvalue of a symmetric matrix.
-double largestEigenvalue(const Eigen::MatrixXd& a) {
-  const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues();
-  return values(values.size() - 1);
-}
-
-/// ω_max [rad/s] of the linearised network.
-double exactOmegaMax(const Simulation& sim) {
-  return std::sqrt(std::max(largestEigenvalue(networkMatrix(sim, false)), 0.0));
-}
-
-Eigen::MatrixXd networkMatrix(const Simulation& sim, bool damping) {
-  const Particles& p = sim.particles();
-  const Material& material = sim.config().material;
-  const bool rotations = sim.frictional();
-  const Eigen::Index per = rotations ? 6 : 3, n = static_cast<Eigen::Index>(p.size()) * per;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
-  sim.forEachContact([&](const ContactView& c) {
-    const std::size_t i = c.particle;
-    const bool wall = c.isWall();
-    const std::size_t j = wall ? i : c.otherParticle();
-    if (!wall && j < i) return;
-    const double reduced =
-        wall ? p.radius[i] : p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-    ContactStiffness k = contactStiffness(material, reduced, c.overlap);
-    if (damping) {  // the dashpots' coefficients, as the terms apply them
-      const double mass = wall ? p.mass[i] : p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-      const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];
-      const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-      const double inertia = wall ? ii : ii * ij / (ii + ij);
-      const double rolling = 2.0 * material.rollingDamping * std::sqrt(inertia * k.rolling);
-      k = ContactStiffness{material.normalDamping * mass,
-                           k.tangential > 0 ? material.tangentialDamping * mass : 0.0, rolling};
-    }
-    const Eigen::Vector3d nn = c.normal;
-    const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - nn * nn.transpose();
-    const Eigen::Matrix3d cross = crossMatrix(c.normal);
-    // One body's columns of G; `sign` +1 for i, −1 for j (its translation and rolling count
-    // negatively; its rotation moves its contact point as i's does: − a [n]×).
-    auto columns = [&](std::size_t body, double sign) {
-      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(7, per);
-      const double m = p.mass[body], inertia = p.inertia(body);
-      const double arm = p.radius[body] - 0.5 * c.overlap;
-      g.block(0, 0, 1, 3) = sign * std::sqrt(k.normal / m) * nn.transpose();
-      if (rotations) {
-        g.block(1, 0, 3, 3) = sign * std::sqrt(k.tangential / m) * tangent;
-        g.block(1, 3, 3, 3) = -std::sqrt(k.tangential / inertia) * arm * cross;
-        g.block(4, 3, 3, 3) = sign * std::sqrt(k.rolling / inertia) * tangent;
-      }
-      return g;
-    };
-    const Eigen::MatrixXd gi = columns(i, 1.0);
-    const Eigen::Index bi = static_cast<Eigen::Index>(i) * per;
-    a.block(bi, bi, per, per) += gi.transpose() * gi;
-    if (wall) return;
-    const Eigen::MatrixXd gj = columns(j, -1.0);
-    const Eigen::Index bj = static_cast<Eigen::Index>(j) * per;
-    a.block(bj, bj, per, per) += gj.transpose() * gj;
-    a.block(bi, bj, per, per) += gi.transpose() * gj;
-    a.block(bj, bi, per, per) += gj.transpose() * gi;
-  });
-  return a;
-}
-
-/// The spectral radius of one velocity-Verlet step on the linearised network
-/// y'' = −A y − D y', the dashpots at v + `dashpotLead` Δt a (1: the predicted velocity, the
-/// stricter scheme; ½: the half-step velocity, as the engine has it, physics.md §2.6): the
-/// state (y, v, a) maps linearly, y' = y + Δt v + Δt²/2 a, a' = −A y' − D (v + lead Δt a),
-/// v' = v + Δt/2 (a + a').
-double verletStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt,
-                        double dashpotLead = 1.0) {
-  const Eigen::Index n = a.rows();
-  const Eigen::MatrixXd one = Eigen::MatrixXd::Identity(n, n);
-  Eigen::MatrixXd step = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  // Rows of y', then a' (from y' and the predicted velocity), then v'.
-  const Eigen::MatrixXd yy = one, yv = dt * one, ya = 0.5 * dt * dt * one;
-  const Eigen::MatrixXd ay = -a * yy, av = -a * yv - d, aa = -a * ya - dashpotLead * dt * d;
-  step.block(0, 0, n, n) = yy;
-  step.block(0, n, n, n) = yv;
-  step.block(0, 2 * n, n, n) = ya;
-  step.block(n, 0, n, n) = 0.5 * dt * ay;
-  step.block(n, n, n, n) = one + 0.5 * dt * av;
-  step.block(n, 2 * n, n, n) = 0.5 * dt * (one + aa);
-  step.block(2 * n, 0, n, n) = ay;
-  step.block(2 * n, n, n, n) = av;
-  step.block(2 * n, 2 * n, n, n) = aa;
-  return Eigen::EigenSolver<Eigen::MatrixXd>(step, false).eigenvalues().cwiseAbs().maxCoeff();
-}
 
 Simulation threeInARow(const Material& material) {
   SimulationConfig cfg;
@@ -458,15 +360,7 @@ TEST(NetworkSpectrum, ALidPressedIntoABedAtAnAutomaticStepShrinksTheStepBeforeAn
   // 5 %, the estimate is made again), so nothing grows: the energy balance moves by under 1 %
   // of the work done on the bed, the bed comes to rest again, and the step chosen at the end
   // is stable on the whole damped linearised network, and shorter.
-  SimulationConfig cfg;
-  cfg.material.normalLaw = NormalLaw::Hertz;
-  cfg.material.friction = 0.3;
-  cfg.material.normalDamping = 200.0;
-  cfg.integrator = Integrator::VelocityVerlet;
-  cfg.impactSpeed = 3.0;
-  cfg.step.automatic = true;
-  Simulation sim = granular::testing::fallingGrid(3, 3, 3, cfg, 0.3);
-  sim.advanceTo(2.5);
+  Simulation sim = granular::testing::settledAutomaticBed();
   ASSERT_TRUE(sim.stepCheck().estimated);
   const double balanceBefore = sim.energy().total();
   const double omegaBefore = std::sqrt(largestEigenvalue(networkMatrix(sim, false)));

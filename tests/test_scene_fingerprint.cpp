@@ -242,6 +242,8 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   material += 8 + 8 + 3 * 8 + 4 * 8 + 8 + 8 + 2 * 8;
   // and after them whether the last check estimated, and the spectrum's calibration, new in 8.
   material += 1 + 4 * 8;
+  // and after it the counts of growing modes, new in 9: 2 counts and the calibration's.
+  material += 8 + 8 + 4;
   bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);

@@ -296,15 +296,8 @@ TEST(Stage, AnAutomaticStepAboveItsFloorLandsOnEverySampleAndOnTheStagesEnd) {
   // A settled bed at "auto": the floor stretched, the step (the network's) is longer than
   // t_c/10, the step the stage used to assume no step exceeds. Samples every 0.01 s are
   // taken at their times exactly, and a stage with no sample inside it ends at its end.
-  SimulationConfig cfg;
-  cfg.material.normalLaw = NormalLaw::Hertz;
-  cfg.material.friction = 0.3;
-  cfg.material.normalDamping = 200.0;
-  cfg.integrator = Integrator::VelocityVerlet;
-  cfg.impactSpeed = 3.0;
-  cfg.step.automatic = true;
-  Simulation sim = granular::testing::fallingGrid(3, 3, 3, cfg, 0.3);
-  sim.advanceTo(2.5);
+  Simulation sim = granular::testing::settledAutomaticBed();
+  const SimulationConfig& cfg = sim.config();
   const double floor = sim.contactScale().duration / cfg.step.contactResolution;
   ASSERT_GT(sim.stepCheck().chosenStep, 1.5 * floor);
 

@@ -4,7 +4,8 @@
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--dt S] [--skin M] [--threads N]
 ///                        [--duration S] [--exact-sums] [--unchecked]
 ///                        [--fresh [--integrator gear5|verlet]] [--series FILE]
-///                        [--auto [--contact-resolution N]]
+///                        [--auto [--contact-resolution N] [--step-safety S]
+///                                [--estimate-scale F]]
 ///   granular_peer_stage2 [--checkpoint F] [--scene F] [--export-lammps DIR]
 ///                        [--export-liggghts DIR] [--radius-types K] [--mean-wall-stiffness]
 ///
@@ -58,6 +59,8 @@ struct Options {
   bool unchecked = false;         // a fixed step run without its check against the network
   bool automatic = false;         // time_step = "auto" (with --fresh)
   double contactResolution = 10;  // its accuracy floor t_c / N
+  double stepSafety = StepControl{}.safety;  // with --auto
+  double estimateScale = 1.0;                // studies::scaleSpectrumEstimate (with --auto)
 };
 
 constexpr const char* kMakeCheckpoint =
@@ -160,7 +163,9 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
     StepControl control;
     control.automatic = true;
     control.contactResolution = o.contactResolution;
+    control.safety = o.stepSafety;
     sim.setStepControl(control);
+    studies::scaleSpectrumEstimate(sim, o.estimateScale);
   }
   sim.setThreads(o.threads);
   sim.setExactSums(o.exactSums);
@@ -199,11 +204,13 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
   output.interval = stage.end.maxTime;
   output.snapshotTimes.clear();
   stage.snapshotTimes.reset();
+  const EnergyBalance before = sim.energy();  // collective under mpirun
   const auto start = std::chrono::steady_clock::now();
   const StageResult result = runStage(sim, stage, output, observer);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
+  const EnergyBalance after = sim.energy();
   const Simulation whole = sim.wholeState();  // a copy alone, the gathered run under mpirun
   if (ranks && ranks->rank() != 0) return 0;
   const BoxStress box = measureBox(whole);
@@ -231,6 +238,13 @@ int run(const Options& o, const std::shared_ptr<const Communicator>& ranks) {
               static_cast<unsigned long long>(cost.scans),
               static_cast<unsigned long long>(cost.calibrations));
   std::printf("step_control_s = %.6f\n", cost.seconds);
+  std::printf("growing_modes = %llu undone, %llu kept\n",
+              static_cast<unsigned long long>(sim.counters().rollbacks),
+              static_cast<unsigned long long>(sim.counters().keptGrowths));
+  // What the stage's steps created or lost, against the work gravity and the walls did.
+  std::printf("ledger_residual_J = %.6g of %.6g J work\n", after.total() - before.total(),
+              std::abs(after.gravityWork - before.gravityWork) +
+                  std::abs(after.wallWork - before.wallWork));
   std::printf("top_z_m = %.9f\n", box.upper.z());
   std::printf("state_hash = %016llx\n", static_cast<unsigned long long>(whole.stateHash()));
   printTensor("sigma_eq1_Pa", box.eq1);
@@ -267,6 +281,13 @@ int main(int argc, char** argv) {
   app.add_option("--contact-resolution", o.contactResolution,
                  "With --auto: the accuracy floor, at most t_c / N (default 10)")
       ->check(CLI::Range(1.0, 1e6));
+  app.add_option("--step-safety", o.stepSafety,
+                 "With --auto: the step's share of the network's (default 0.9)")
+      ->check(CLI::Range(0.01, 1.0));
+  app.add_option("--estimate-scale", o.estimateScale,
+                 "With --auto: the spectrum's estimate taken x F, F < 1 an estimate too low "
+                 "whose growing modes the run must catch (a study; default 1)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--export-lammps", o.exportLammps,
                  "Write LAMMPS inputs to this folder, run nothing");
   app.add_option("--export-liggghts", o.exportLiggghts,

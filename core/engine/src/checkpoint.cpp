@@ -563,6 +563,7 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   NetworkCalibration calibration = state.calibration;  // version 8
   w(check.estimated), w(calibration.boundOmega), w(calibration.boundDamping);
   w(calibration.omega), w(calibration.damping);
+  w(counters.rollbacks), w(counters.keptGrowths), w(calibration.rollbacks);  // version 9
   if (std::any_of(state.walls.begin(), state.walls.end(),
                   [](const Wall& x) { return x.shell(); })) {
     std::string tag(kWallShapesTag);
@@ -733,6 +734,10 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     if (!sane) {
       throw CheckpointError(name + ": corrupted checkpoint: the spectrum's calibration is invalid");
     }
+  }
+  if (version >= 9) {
+    r(state->counters.rollbacks), r(state->counters.keptGrowths);
+    r(state->calibration.rollbacks);
   }
   NeighbourList& list = state->neighbours;
   // The optional trailing sections, each tagged, in the order written.

@@ -2,6 +2,9 @@
 /// setters read (simulation.cpp).
 #include "granular/engine_studies.hpp"
 
+#include <cmath>
+
+#include "config_validation.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -24,6 +27,11 @@ void disableStepLimit(Simulation& sim, bool off) {
 
 StepControlCost stepControlCost(const Simulation& sim) {
   return SimulationStudies::state(sim).stepControlCost;
+}
+
+void scaleSpectrumEstimate(Simulation& sim, double factor) {
+  requireConfig(std::isfinite(factor) && factor > 0.0, "the estimate's factor must be > 0");
+  SimulationStudies::state(sim).estimateScale = factor;
 }
 
 }  // namespace studies

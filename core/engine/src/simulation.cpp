@@ -16,6 +16,7 @@
 #include "force_pass.hpp"
 #include "granular/error.hpp"
 #include "integrators.hpp"
+#include "rollback.hpp"
 #include "simulation_passes.hpp"
 #include "simulation_state.hpp"
 #include "step_check.hpp"
@@ -326,14 +327,20 @@ void stepOnce(SimulationState& s, bool predictNext) {
 
 }  // namespace
 
+// Each stepping call counts its steps by the state's `steps`: a growing mode's rollback
+// (rollback.hpp) takes it back to a check inside the call, whose steps are then taken again.
+
 void Simulation::step() {
-  stepOnce(*state_, false);
+  run(1);
 }
 
 void Simulation::run(std::uint64_t steps) {
+  SimulationState& s = *state_;
+  beginSteppingCall(s);
+  const std::uint64_t end = s.steps + steps;
   // A step whose state nobody sees between it and the next predicts the next one in its
   // corrector's loop; the last step leaves the state corrected, as step() does.
-  for (std::uint64_t k = 0; k < steps; ++k) stepOnce(*state_, k + 1 < steps);
+  while (s.steps < end) stepOnce(s, s.steps + 1 < end);
 }
 
 std::uint64_t Simulation::runBefore(std::uint64_t steps, double t) {
@@ -344,14 +351,14 @@ std::uint64_t Simulation::runBefore(std::uint64_t steps, double t) {
     const double end = s.timeOrigin + double(s.stepsSinceOrigin + ahead) * s.config.timeStep;
     return end <= t + 1e-9 * s.config.timeStep;
   };
-  std::uint64_t taken = 0;
-  while (taken < steps && fits(1)) {
+  beginSteppingCall(s);
+  const std::uint64_t start = s.steps;
+  while (s.steps - start < steps && fits(1)) {
     // The next step is predicted in this one's corrector only where it will be taken: it fits
     // at this step (a check, which may change the step, takes no prediction).
-    stepOnce(s, taken + 1 < steps && fits(2));
-    ++taken;
+    stepOnce(s, s.steps + 1 - start < steps && fits(2));
   }
-  return taken;
+  return s.steps - start;
 }
 
 void Simulation::advanceTo(double t) {
@@ -359,6 +366,7 @@ void Simulation::advanceTo(double t) {
   requireConfig(std::isfinite(t) && t >= clockNow(s) - 1e-9 * targetStep(s),
                 "advance to t = " + shortNumber(t) + " s: must not be before the clock, " +
                     shortNumber(clockNow(s)) + " s");
+  beginSteppingCall(s);
   // Landing steps change config.timeStep; the step asked for or chosen is kept apart.
   if (!(s.targetStep > 0.0)) s.targetStep = s.config.timeStep;
   for (;;) {
@@ -370,11 +378,15 @@ void Simulation::advanceTo(double t) {
     const double k = std::ceil(remaining / target * (1.0 - 1e-12));
     const std::uint64_t steps = static_cast<std::uint64_t>(k);
     changeStep(s, remaining / k);
-    const std::uint64_t checks = s.counters.stepChecks;
+    const std::uint64_t checks = s.counters.stepChecks, rollbacks = s.counters.rollbacks;
     for (std::uint64_t j = 0; j < steps; ++j) {
       stepOnce(s, j + 1 < steps);
-      // A new choice of step: the rest of the stretch is laid out again.
-      if (s.config.step.automatic && s.counters.stepChecks != checks) break;
+      // A new choice of step (or a return to an earlier check): the rest of the stretch is
+      // laid out again.
+      if (s.config.step.automatic &&
+          (s.counters.stepChecks != checks || s.counters.rollbacks != rollbacks)) {
+        break;
+      }
     }
   }
   s.timeOrigin = t;

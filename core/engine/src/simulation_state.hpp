@@ -16,6 +16,7 @@
 #include "granular/engine_studies.hpp"
 #include "granular/exact_sum.hpp"
 #include "granular/simulation.hpp"
+#include "rollback.hpp"
 #include "run_partition.hpp"
 #include "thread_governor.hpp"
 #include "triangle_grid.hpp"
@@ -295,6 +296,7 @@ struct SimulationState {
   /// The switches of granular/engine_studies.hpp (not checkpointed).
   bool rebuildEveryStep = false;
   bool stepLimitDisabled = false;
+  double estimateScale = 1.0;  ///< studies::scaleSpectrumEstimate
   ContactScale contactScale;
   /// The step asked for (fixed) or chosen (automatic) [s]; config.timeStep is the next step's,
   /// shorter than this one when advanceTo lands on a time. 0: config.timeStep.
@@ -303,6 +305,10 @@ struct SimulationState {
   StepCheck stepCheck;                       ///< the last check
   NetworkCalibration calibration;            ///< the estimate against the bound
   studies::StepControlCost stepControlCost;  ///< the reviews inside the steps (not checkpointed)
+  /// The state at the last check whose step came from the estimate (rollback.hpp; not
+  /// checkpointed: a restored run keeps it again where it starts at such a check).
+  RollbackSlot rollback;
+  std::uint64_t stepsAtCallStart = 0;  ///< `steps` when the stepping call began (rollback.hpp)
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle
   // and step costs less than 16 bytes per particle of memory traffic.)

@@ -10,6 +10,7 @@
 #include "config_validation.hpp"
 #include "granular/error.hpp"
 #include "network_bound.hpp"
+#include "rollback.hpp"
 
 namespace granular {
 namespace {
@@ -94,9 +95,10 @@ NetworkFrequency estimated(const SimulationState& s, const NetworkFrequency& f, 
     c.damping = e.dampingRate;
   }
   NetworkFrequency g = f;
-  if (c.omega > 0.0) g.omegaMax = std::min(f.omegaMax, f.omegaMax * (c.omega / c.boundOmega));
+  const double omega = s.estimateScale * c.omega, damping = s.estimateScale * c.damping;
+  if (c.omega > 0.0) g.omegaMax = std::min(f.omegaMax, f.omegaMax * (omega / c.boundOmega));
   if (c.boundDamping > 0.0) {
-    g.dampingRate = std::min(f.dampingRate, f.dampingRate * (c.damping / c.boundDamping));
+    g.dampingRate = std::min(f.dampingRate, f.dampingRate * (damping / c.boundDamping));
   }
   g.dampingRatio = g.omegaMax > 0.0 ? g.dampingRate / (2.0 * g.omegaMax) : 0.0;
   return g;
@@ -202,8 +204,6 @@ void checkStep(SimulationState& s) {
   const double calibratedAt = s.calibration.boundOmega;
   StepCheck c = measureStep(s, s.config.integrator, target, &s.calibration);
   if (s.calibration.boundOmega != calibratedAt) ++s.stepControlCost.calibrations;
-  s.stepCheck = c;
-  s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
 
   if (s.config.step.automatic) {
     if (!(c.chosenStep > 0.0) || !std::isfinite(c.chosenStep)) {
@@ -213,10 +213,23 @@ void checkStep(SimulationState& s) {
           << ", particle " << c.particle << "); the run stops";
       throw NumericalError(msg.str());
     }
+    if (const double longest = recoverFromGrowth(s, c); longest > 0.0) {
+      // The state may be the point's now, the estimate raised: the step is measured again, and
+      // the shortest taken.
+      const StepCheck again = measureStep(s, s.config.integrator, targetStep(s), &s.calibration);
+      const double step = std::min({c.chosenStep, again.chosenStep, longest});
+      c = again;
+      c.chosenStep = step;
+    }
+    s.stepCheck = c;
+    s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
     s.targetStep = c.chosenStep;
     changeStep(s, c.chosenStep);
+    keepRollbackPoint(s);
     return;
   }
+  s.stepCheck = c;
+  s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
   if (s.stepLimitDisabled || c.contacts == 0 || target <= c.networkStep) return;
   if (s.config.step.onUnstable == OnUnstable::Warn) {
     ++s.counters.unstableChecks;

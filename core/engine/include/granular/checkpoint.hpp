@@ -50,9 +50,12 @@ class CheckpointError : public std::runtime_error {
 ///    spectrum's calibration (NetworkCalibration), after the last check: an automatic run that
 ///    takes its step from the estimate resumes bit for bit (older files: none, made again at
 ///    the next check).
+/// 9: the growing modes met (StepCounters::rollbacks and keptGrowths, and the calibration's
+///    NetworkCalibration::rollbacks), after the calibration: a run whose estimate a growing
+///    mode raised resumes bit for bit (older files: none met).
 /// Versions 2 to 5 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 8;
+inline constexpr std::uint32_t kCheckpointVersion = 9;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

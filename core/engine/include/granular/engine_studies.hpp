@@ -31,4 +31,10 @@ struct StepControlCost {
 };
 StepControlCost stepControlCost(const Simulation& sim);
 
+/// The spectrum's estimate of ω_max and Γ (NetworkCalibration) taken × `factor` (> 0) from the
+/// next check on, which takes its step × 1 / factor (never above the bound's): below 1, an
+/// estimate too low, whose steps grow and must be caught and undone
+/// (docs/physics.md §2.16; the rollback's tests and bench/RESULTS.md, "The growth watch").
+void scaleSpectrumEstimate(Simulation& sim, double factor);
+
 }  // namespace granular::studies

@@ -178,6 +178,11 @@ struct StepCounters {
   /// The smallest and largest step taken since the start [s] (with step.automatic, the chosen
   /// range; steps shortened to land on a time included).
   double smallestStep = 0, largestStep = 0;
+  /// Growing modes an automatic step from the spectrum's estimate met (docs/physics.md §2.16):
+  /// those undone, the steps since the last check taken again at a shorter step, and those
+  /// kept, where the caller had seen the state since that check (the step shrank from then on,
+  /// and the energy they created stays in the ledger's residual) [-].
+  std::uint64_t rollbacks = 0, keptGrowths = 0;
 };
 
 /// The last check of the step against the network (StepControl).
@@ -210,6 +215,10 @@ struct StepCheck {
 struct NetworkCalibration {
   double boundOmega = 0, boundDamping = 0;  ///< [rad/s], [1/s]
   double omega = 0, damping = 0;            ///< the estimate's [rad/s], [1/s]
+  /// Growing modes met on this calibration's steps; each raised `omega` and `damping` by
+  /// 1 / 0.8, but for a first one that the accuracy floor's return shortened anyway
+  /// (docs/physics.md §2.16).
+  std::uint32_t rollbacks = 0;
 };
 
 /// The particles a run has held, taken in and let out (Simulation::exchangeParticles).
