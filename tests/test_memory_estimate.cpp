@@ -72,6 +72,21 @@ TEST(MemoryEstimate, CoversTheArraysOfEveryModelWithRoomForARebuild) {
   }
 }
 
+// An automatic velocity-Verlet step at rest comes from the spectrum's estimate, and its checks
+// keep the state to return to (MemoryUse::rollback): the estimate covers both copies.
+TEST(MemoryEstimate, CoversAnAutomaticStepsBedWithTheStateItKeeps) {
+  Scene scene = touchingBed(16, Integrator::VelocityVerlet, 0.5);
+  scene.simulation.step.automatic = true;
+  Simulation sim = buildSimulation(scene);
+  sim.run(500);  // the bed pressed together by its weight and come to rest
+  const MemoryUse use = sim.memoryUse();
+  ASSERT_GT(use.rollback, 0u) << "no state kept: the step did not come from the estimate";
+  const double arrays = double(use.total()) / double(sim.particles().size());
+  const MemoryEstimate e = estimateMemory(scene);
+  EXPECT_GE(e.bytesPerParticle, arrays + 75.0) << e.model << ": arrays " << arrays;
+  EXPECT_LT(e.bytesPerParticle, 2.0 * arrays) << e.model;
+}
+
 // A scene of 5·10⁷ frictional Gear5 spheres needs about 30 GB: refused at once by `granular run`
 // (exit 2, one line with the estimate and the memory available), not by std::bad_alloc later.
 TEST(MemoryEstimate, ASceneBeyondTheMachineIsRefusedBeforeAllocating) {

@@ -71,6 +71,9 @@ TEST_F(Rollback, AStepAboveTheEdgeFromAnEstimateTooLowIsUndoneAndTheRunEndsAsASt
   // The step it ends at is stable on the whole damped linearised network.
   const Eigen::MatrixXd a = networkMatrix(sim, false), d = networkMatrix(sim, true);
   EXPECT_LE(verletStepRadius(a, d, sim.stepCheck().chosenStep, 0.5), 1.0 + 1e-6);
+  // The state kept is counted in the memory held: about the arrays again.
+  const MemoryUse memory = sim.memoryUse();
+  EXPECT_GT(memory.rollback, (memory.total() - memory.rollback) / 2);
   std::printf("%llu rollbacks; balance moved %.3g J of %.3g J work; last step %.4g s\n",
               static_cast<unsigned long long>(sim.counters().rollbacks), e.total() - balanceBefore,
               e.wallWork, sim.stepCheck().chosenStep);

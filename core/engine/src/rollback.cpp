@@ -140,6 +140,10 @@ double recoverFromGrowth(SimulationState& s, const StepCheck& found) {
   return kRetry * grew;
 }
 
+const SimulationState* rollbackState(const SimulationState& s) {
+  return s.rollback.point ? &s.rollback.point->state : nullptr;
+}
+
 void keepRollbackPoint(SimulationState& s) {
   if (s.stepCheck.estimated) {
     keepPoint(s);

@@ -46,6 +46,9 @@ void beginSteppingCall(SimulationState& s);
 /// no mode grew.
 double recoverFromGrowth(SimulationState& s, const StepCheck& found);
 
+/// The state kept to return to; null where none is.
+const SimulationState* rollbackState(const SimulationState& s);
+
 /// After a check of an automatic step has chosen it: the state kept as the point to return to
 /// where the step came from the estimate; none is needed where the bound allows it.
 void keepRollbackPoint(SimulationState& s);

@@ -4,6 +4,7 @@
 
 #include "force_pass.hpp"
 #include "particle_fields.hpp"
+#include "rollback.hpp"
 #include "simulation_state.hpp"
 
 namespace granular {
@@ -31,10 +32,8 @@ std::size_t bytes(const std::vector<std::vector<T>>& v) {
   return total;
 }
 
-}  // namespace
-
-MemoryUse Simulation::memoryUse() const {
-  const SimulationState& s = *state_;
+/// The arrays of one state, its rollback's left out.
+MemoryUse memoryOf(const SimulationState& s) {
   const Particles& p = s.particles;
   MemoryUse m;
   forEachParticleField(p,
@@ -52,6 +51,14 @@ MemoryUse Simulation::memoryUse() const {
   m.scratch = bytes(c.crossingSpring) + bytes(c.springsSetAside) + bytes(c.blockPowers) +
               bytes(c.blockReaction) + bytes(c.partPowers);
   for (const ExactPowers& part : c.partPowers) m.scratch += bytes(part.reaction);
+  return m;
+}
+
+}  // namespace
+
+MemoryUse Simulation::memoryUse() const {
+  MemoryUse m = memoryOf(*state_);
+  if (const SimulationState* kept = rollbackState(*state_)) m.rollback = memoryOf(*kept).total();
   return m;
 }
 

@@ -51,8 +51,17 @@ MemoryEstimate estimateMemory(const Scene& scene) {
   const bool gear = scene.simulation.integrator == Integrator::Gear5;
   e.bytesPerParticle = kFrictionlessVerlet + (frictional ? kFriction : 0.0) +
                        (gear ? kGearDerivatives * (frictional ? 2 : 1) : 0.0);
-  e.model = frictional ? (gear ? "frictional Gear5" : "frictional velocity-Verlet")
-                       : (gear ? "frictionless Gear5" : "frictionless velocity-Verlet");
+  // An automatic velocity-Verlet step may come from the spectrum's estimate, whose checks keep
+  // the state to return to: the arrays again (MemoryUse::rollback; docs/physics.md §2.16).
+  const bool kept = scene.simulation.step.automatic && !gear;
+  if (kept) e.bytesPerParticle *= 2.0;
+  // [friction][integrator: Verlet, Gear5, Verlet at an automatic step]
+  static constexpr const char* kModels[2][3] = {
+      {"frictionless velocity-Verlet", "frictionless Gear5",
+       "frictionless velocity-Verlet (automatic step: the state kept twice)"},
+      {"frictional velocity-Verlet", "frictional Gear5",
+       "frictional velocity-Verlet (automatic step: the state kept twice)"}};
+  e.model = kModels[frictional ? 1 : 0][gear ? 1 : (kept ? 2 : 0)];
   e.bytes = std::uint64_t(double(e.particles) * e.bytesPerParticle) + kProgram;
   return e;
 }

@@ -53,9 +53,11 @@ enum class OnUnstable {
 /// never inside a step.
 struct StepControl {
   bool automatic = false;  ///< Δt chosen from the live contacts (time_step = "auto")
-  /// Δt = safety × the network's stable step, (0, 1]. The bound on ω_max is above the exact
-  /// one (1.3–1.5 × on settled beds, tests/test_network_frequency.cpp); the 10 % margin is for
-  /// what the linearisation leaves out: contacts that open or close inside a step.
+  /// Δt = safety × the network's stable step, (0, 1]: the bound's, or with velocity Verlet the
+  /// spectrum's estimate where the bound (1.3–1.5 × the exact ω_max on settled beds) would
+  /// refuse it (docs/physics.md §2.16). The 10 % margin is for what the linearisation leaves
+  /// out (contacts that open or close inside a step) and for the network stiffening between
+  /// two checks; a step from the estimate that grows a mode all the same is undone.
   double safety = 0.9;
   /// Accuracy floor: Δt ≤ t_c / N, t_c the stiffest contact's duration (contactScale()), so
   /// that an impact is resolved in at least N steps however stable a longer step would be.
@@ -155,8 +157,11 @@ struct MemoryUse {
   std::size_t history = 0;     ///< tangential springs (frictional only) [B]
   std::size_t forcePlan = 0;   ///< how the force pass splits its work among threads [B]
   std::size_t scratch = 0;     ///< force-pass results of pairs straddling two threads [B]
+  /// The state an automatic step from the spectrum's estimate keeps to return to, all of the
+  /// above again (docs/physics.md §2.16) [B].
+  std::size_t rollback = 0;
   std::size_t total() const {
-    return particles + integrator + neighbours + history + forcePlan + scratch;
+    return particles + integrator + neighbours + history + forcePlan + scratch + rollback;
   }
 };
 
