@@ -5,7 +5,8 @@
 /// step, so the run ends as a stable one would: the balance closed, the bed at rest, the last
 /// step stable on the exact damped network. The same bits on 1, 2 and 3 threads (on ranks:
 /// tests/ranks) and across a checkpoint; where the caller has seen the state since the last
-/// check, the growth is kept and counted, and the step shrinks all the same.
+/// check (a driver stepping one step a call, a setter's check between calls), the growth is kept
+/// and counted, and the step shrinks all the same.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -125,4 +126,25 @@ TEST_F(Rollback, AGrowthTheCallerHasSeenIsKeptCountedAndTheStepShrinks) {
   ASSERT_EQ(sim.counters().keptGrowths, 1u);
   EXPECT_EQ(sim.counters().rollbacks, 0u);
   EXPECT_LE(sim.stepCheck().chosenStep, 0.8 * first * (1.0 + 1e-9));
+}
+
+TEST_F(Rollback, ASetterBetweenCallsNeverReturnsToAStateTheCallerHasSeen) {
+  // Calls of 5 steps, and between each two a setter whose check re-chooses the step (the lid's
+  // speed nudged): a growing mode that such a check finds is kept, never undone, so the steps
+  // and the clock the caller has seen stand.
+  Simulation sim = granular::testing::settledAutomaticBed(3, 3, 3, 1);
+  studies::scaleSpectrumEstimate(sim, 0.6);
+  sim.addWall(Wall{"lid", Vec3(0, 0, topOf(sim)), Vec3(0, 0, -1)});
+  const std::size_t lid = std::size_t(sim.findWall("lid"));
+  std::uint64_t keptBySetters = 0;
+  for (int k = 0; k < 400; ++k) {
+    sim.run(5);
+    const std::uint64_t steps = sim.stepCount(), kept = sim.counters().keptGrowths;
+    const double time = sim.time();
+    sim.setWallVelocity(lid, Vec3(0, 0, k % 2 == 0 ? -0.05 : -0.051));
+    ASSERT_EQ(sim.stepCount(), steps) << "a setter took the run back, call " << k;
+    ASSERT_EQ(sim.time(), time);
+    keptBySetters += sim.counters().keptGrowths - kept;
+  }
+  EXPECT_GE(keptBySetters, 1u) << "no setter's check found a growing mode";
 }

@@ -102,13 +102,17 @@ void keepPoint(SimulationState& s) {
 
 }  // namespace
 
-void beginSteppingCall(SimulationState& s) {
+SteppingCall::SteppingCall(SimulationState& s) : s_(s) {
   s.stepsAtCallStart = s.steps;
   if (s.config.step.automatic && s.stepCheck.estimated && s.stepsSinceCheck == 0) {
     keepPoint(s);
   } else if (s.rollback.point && s.rollback.point->state.steps >= s.steps) {
     s.rollback.point.reset();  // kept before something changed the state between calls
   }
+}
+
+SteppingCall::~SteppingCall() {
+  s_.stepsAtCallStart = kBetweenCalls;
 }
 
 double recoverFromGrowth(SimulationState& s, const StepCheck& found) {
@@ -120,7 +124,7 @@ double recoverFromGrowth(SimulationState& s, const StepCheck& found) {
   // a floor that comes and goes must not hide an estimate that is too low.
   const bool shortened = found.chosenStep <= kRetry * grew;
   NetworkCalibration calibration = s.calibration;
-  if (point->state.steps >= s.stepsAtCallStart) {
+  if (s.stepsAtCallStart != kBetweenCalls && point->state.steps >= s.stepsAtCallStart) {
     // The calibration of the steps that grew, unless this check calibrated again.
     if (calibration.boundOmega != point->state.calibration.boundOmega) {
       calibration = point->state.calibration;

@@ -6,6 +6,8 @@
 /// ledger: where it finds a growing mode, the state returns to the point and the steps since
 /// are taken again at a shorter step. A growing mode creates energy, which shows in the ledger's
 /// residual (EnergyBalance::total) long before it shows in a stress.
+#include <cstdint>
+#include <limits>
 #include <memory>
 
 namespace granular {
@@ -13,6 +15,9 @@ namespace granular {
 struct SimulationState;
 struct StepCheck;
 struct RollbackPoint;
+
+/// SimulationState::stepsAtCallStart outside a stepping call.
+inline constexpr std::uint64_t kBetweenCalls = std::numeric_limits<std::uint64_t>::max();
 
 /// Holds a state's RollbackPoint. A point belongs to the state that kept it: a copy of the
 /// state (a point itself, wholeState) starts without one, and a state assigned another's (the
@@ -29,12 +34,23 @@ class RollbackSlot {
   std::unique_ptr<RollbackPoint> point;
 };
 
-/// At the start of a stepping call (Simulation::step, run, runBefore, advanceTo): the call may
-/// return to no point before it, since its caller has seen the state since (a sample written
-/// is never undone). Where the state is at a check that chose a step from the estimate (one
-/// that ended the last call, or a setter's), that check's point is kept again here: the same
-/// point a run restored from a checkpoint there keeps, so that both go on alike.
-void beginSteppingCall(SimulationState& s);
+/// The span of a stepping call (Simulation::run, runBefore, advanceTo): a growing mode found
+/// inside it may return to a point kept within it or at its start, never to one before, since
+/// the caller has seen the state since (a sample written is never undone); one found between
+/// calls (a setter's check) returns to none. At its start, where the state is at a check that
+/// chose a step from the estimate (one that ended the last call, or a setter's), that check's
+/// point is kept again: the same point a run restored from a checkpoint there keeps, so that
+/// both go on alike.
+class SteppingCall {
+ public:
+  explicit SteppingCall(SimulationState& s);
+  ~SteppingCall();
+  SteppingCall(const SteppingCall&) = delete;
+  SteppingCall& operator=(const SteppingCall&) = delete;
+
+ private:
+  SimulationState& s_;
+};
 
 /// At a check of an automatic step, once `found` is measured (collective in a split run):
 /// whether the ledger shows a growing mode since the point kept at the last check. If it does,

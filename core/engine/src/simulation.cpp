@@ -336,7 +336,7 @@ void Simulation::step() {
 
 void Simulation::run(std::uint64_t steps) {
   SimulationState& s = *state_;
-  beginSteppingCall(s);
+  const SteppingCall call(s);
   const std::uint64_t end = s.steps + steps;
   // A step whose state nobody sees between it and the next predicts the next one in its
   // corrector's loop; the last step leaves the state corrected, as step() does.
@@ -351,7 +351,7 @@ std::uint64_t Simulation::runBefore(std::uint64_t steps, double t) {
     const double end = s.timeOrigin + double(s.stepsSinceOrigin + ahead) * s.config.timeStep;
     return end <= t + 1e-9 * s.config.timeStep;
   };
-  beginSteppingCall(s);
+  const SteppingCall call(s);
   const std::uint64_t start = s.steps;
   while (s.steps - start < steps && fits(1)) {
     // The next step is predicted in this one's corrector only where it will be taken: it fits
@@ -366,7 +366,7 @@ void Simulation::advanceTo(double t) {
   requireConfig(std::isfinite(t) && t >= clockNow(s) - 1e-9 * targetStep(s),
                 "advance to t = " + shortNumber(t) + " s: must not be before the clock, " +
                     shortNumber(clockNow(s)) + " s");
-  beginSteppingCall(s);
+  const SteppingCall call(s);
   // Landing steps change config.timeStep; the step asked for or chosen is kept apart.
   if (!(s.targetStep > 0.0)) s.targetStep = s.config.timeStep;
   for (;;) {

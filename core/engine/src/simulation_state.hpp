@@ -308,7 +308,8 @@ struct SimulationState {
   /// The state at the last check whose step came from the estimate (rollback.hpp; not
   /// checkpointed: a restored run keeps it again where it starts at such a check).
   RollbackSlot rollback;
-  std::uint64_t stepsAtCallStart = 0;  ///< `steps` when the stepping call began (rollback.hpp)
+  /// `steps` when the stepping call began (SteppingCall, rollback.hpp); kBetweenCalls outside.
+  std::uint64_t stepsAtCallStart = kBetweenCalls;
 
   // Per-step accumulators. (1/m and 1/I are recomputed where needed: a division per particle
   // and step costs less than 16 bytes per particle of memory traffic.)
