@@ -310,7 +310,7 @@ int runScene(const RunOptions& options) {
     if (root) std::cerr << "warning: " << warning << "\n";
     warnings.push_back(warning);
   }
-  bool unstableReported = false, approachReported = false;
+  bool unstableReported = false, approachReported = false, growthReported = false;
 
   // Checkpoints: every `checkpointEvery` seconds of wall clock inside a stage, and at each
   // stage's end. The last one written is the last good state if the run breaks.
@@ -350,6 +350,19 @@ int runScene(const RunOptions& options) {
               " s is above the step the contact network allows (" + format("%.4g", c.networkStep) +
               " s at t = " + format("%.6g", c.time) + " s, particle " + std::to_string(c.particle) +
               "); the run goes on (on_unstable = \"warn\") and may gain energy";
+          reporter.finish();
+          if (root) std::cerr << "warning: " << warning << "\n";
+          warnings.push_back(warning);
+        }
+        if (s.counters().keptGrowths > 0 && !growthReported) {
+          // An automatic step grew a mode the run could not undo (it was found after samples
+          // of it were taken): said once; the summary gives the count.
+          growthReported = true;
+          const std::string warning =
+              "a growing mode of the automatic step was found at t = " +
+              format("%.6g", s.stepCheck().time) +
+              " s after the state had been sampled, so it was not undone: the step shrank from "
+              "then on, and the energy it created stays in the ledger (energy_total_J)";
           reporter.finish();
           if (root) std::cerr << "warning: " << warning << "\n";
           warnings.push_back(warning);
