@@ -236,7 +236,10 @@ case "$case_name" in
     status=$?
     set -e
     [[ $status == 1 ]] || fail "mpirun stopped by SIGTERM: exit $status, expected OpenMPI's 1"
-    [[ "$(wc -l <stopped.err)" == 1 ]] || fail "not one line on stderr: $(cat stopped.err)"
+    # OpenMPI's event library may warn as mpirun tears the job down ("[warn] Epoll MOD(1) on fd
+    # 26 failed ... Bad file descriptor", now and then): its line, not the run's.
+    ours=$(grep -v '^\[warn\] Epoll ' stopped.err || true)
+    [[ "$(wc -l <<<"$ours")" == 1 ]] || fail "not one line on stderr: $(cat stopped.err)"
     grep -q "^stopped by SIGTERM at t = .*; checkpoint stopped/checkpoint.bin written" \
       stopped.err || fail "the ranks did not say they wrote the checkpoint: $(cat stopped.err)"
     "$granular" run exact.toml --out stopped --quiet --resume >resume.log 2>&1 ||
