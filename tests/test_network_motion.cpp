@@ -82,3 +82,29 @@ TEST(NetworkMotion, TheScansChunksCountWhatTheWalkOneContactAtATimeCounts) {
     EXPECT_GT(approaching, 10u);
   }
 }
+
+TEST(NetworkMotion, TheScanIsTheSameBitsOnOneTwoAndThreeThreads) {
+  SimulationConfig cfg;
+  cfg.material.friction = 0.3;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.timeStep = 1e-4;
+  cfg.threads = 1;
+  Simulation sim = fallingGrid(20, 20, 6, cfg, 1.0);
+  sim.run(3000);
+  const SimulationState& s = SimulationAccess::state(sim);
+  // Enough pairs that the scan runs on the threads it is given (pair_motion.hpp).
+  ASSERT_GT(s.neighbours.second.size(), 4096u);
+  for (double lookahead : {0.0, 2e-3, 0.5}) {
+    const NetworkFrequency expected = walked(s, lookahead);
+    for (int threads : {1, 2, 3}) {
+      sim.setThreads(threads);
+      const NetworkFrequency scanned = networkMotion(s, lookahead);
+      SCOPED_TRACE(::testing::Message()
+                   << "lookahead " << lookahead << " s, " << threads << " threads");
+      EXPECT_EQ(scanned.contacts, expected.contacts);
+      EXPECT_EQ(scanned.approaching, expected.approaching);
+      EXPECT_EQ(scanned.fastestApproach, expected.fastestApproach);
+      EXPECT_EQ(scanned.relativeKinetic, expected.relativeKinetic);
+    }
+  }
+}

@@ -1,6 +1,8 @@
 /// The contact network's frequency bound (granular/network_frequency.hpp).
 #include "granular/network_frequency.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -380,6 +382,13 @@ class MotionTally {
     out_.fastestApproach = std::max(out_.fastestApproach, counts.fastest);
     relativeKinetic_.addAll(c.energy, m);
   }
+  /// Adds what `other` counted (exactly: any split of the contacts gives the same bits).
+  void merge(const MotionTally& other) {
+    out_.contacts += other.out_.contacts;
+    out_.approaching += other.out_.approaching;
+    out_.fastestApproach = std::max(out_.fastestApproach, other.out_.fastestApproach);
+    relativeKinetic_.merge(other.relativeKinetic_);
+  }
   /// The tally into `out` (collective in a split run: sums and the largest over the ranks).
   void fill(NetworkFrequency& out) {
     if (s_.split.domains) {
@@ -405,28 +414,43 @@ class MotionTally {
 };
 
 /// The listed pairs into `tally`, a chunk at a time (pair_motion.hpp): the same contacts,
-/// speeds and energies as walkNetworkContacts's pairs, at a fraction of the cost.
+/// speeds and energies as walkNetworkContacts's pairs, at a fraction of the cost. On the pass's
+/// threads, each its run of rows into a tally of its own, merged after: counts, the largest speed
+/// and an exact sum, the same bits on any thread count.
 void tallyListedPairs(const SimulationState& s, double lookahead, MotionTally& tally) {
   const Particles& p = s.particles;
   const NeighbourList& list = s.neighbours;
-  PairMotionChunk chunk;
-  std::size_t m = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 xi = p.position[i], vi = p.velocity[i];
-    const double ri = p.radius[i], mi = p.mass[i];
-    const double mine = s.owned.empty() || s.owned[i] ? 1.0 : 0.0;
-    for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-      const std::size_t j = list.second[k];
-      const Vec3 d = p.position[j] - xi, v = vi - p.velocity[j];
-      chunk.dx[m] = d.x(), chunk.dy[m] = d.y(), chunk.dz[m] = d.z();
-      chunk.vx[m] = v.x(), chunk.vy[m] = v.y(), chunk.vz[m] = v.z();
-      chunk.ri[m] = ri, chunk.rj[m] = p.radius[j];
-      chunk.mi[m] = mi, chunk.mj[m] = p.mass[j];
-      chunk.owned[m] = mine;
-      if (++m == PairMotionChunk::kSize) tally.addPairs(chunk, std::exchange(m, 0), lookahead);
+  const std::size_t n = p.size();
+  // Below this many pairs a scan takes less than a parallel region's start.
+  constexpr std::size_t kPairsForThreads = 4096;
+  const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
+  const int teams = list.second.size() < kPairsForThreads ? 1 : std::max(threads, 1);
+  std::vector<MotionTally> parts(static_cast<std::size_t>(teams), MotionTally(s));
+#pragma omp parallel num_threads(teams)
+  {
+    const std::size_t t = std::size_t(omp_get_thread_num());
+    const std::size_t used = std::size_t(omp_get_num_threads());
+    MotionTally& part = parts[t];
+    PairMotionChunk chunk;
+    std::size_t m = 0;
+    for (std::size_t i = n * t / used; i < n * (t + 1) / used; ++i) {
+      const Vec3 xi = p.position[i], vi = p.velocity[i];
+      const double ri = p.radius[i], mi = p.mass[i];
+      const double mine = s.owned.empty() || s.owned[i] ? 1.0 : 0.0;
+      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
+        const std::size_t j = list.second[k];
+        const Vec3 d = p.position[j] - xi, v = vi - p.velocity[j];
+        chunk.dx[m] = d.x(), chunk.dy[m] = d.y(), chunk.dz[m] = d.z();
+        chunk.vx[m] = v.x(), chunk.vy[m] = v.y(), chunk.vz[m] = v.z();
+        chunk.ri[m] = ri, chunk.rj[m] = p.radius[j];
+        chunk.mi[m] = mi, chunk.mj[m] = p.mass[j];
+        chunk.owned[m] = mine;
+        if (++m == PairMotionChunk::kSize) part.addPairs(chunk, std::exchange(m, 0), lookahead);
+      }
     }
+    if (m > 0) part.addPairs(chunk, m, lookahead);
   }
-  if (m > 0) tally.addPairs(chunk, m, lookahead);
+  for (const MotionTally& part : parts) tally.merge(part);
 }
 
 }  // namespace
