@@ -105,3 +105,60 @@ TEST(NeighbourRows, RoundedReferencePositionsNeverHideAMoveOfHalfTheSkin) {
 
 }  // namespace
 }  // namespace granular
+
+namespace granular {
+namespace {
+
+/// The pairs j > i of each particle within R_i + R_j + margin, by testing every pair.
+std::vector<std::vector<std::uint32_t>> pairsWithin(const Particles& p, double margin) {
+  std::vector<std::vector<std::uint32_t>> rows(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double reach = p.radius[i] + p.radius[j] + margin;
+      if ((p.position[j] - p.position[i]).squaredNorm() < reach * reach) {
+        rows[i].push_back(static_cast<std::uint32_t>(j));
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+// The cell search, on any thread count, lists exactly the pairs within reach, those placed a
+// rounding's width inside and outside it included.
+TEST(NeighbourRows, TheSearchListsExactlyThePairsWithinReachOnAnyThreadCount) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Particles p;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 x(0.2 * unit(random), 0.2 * unit(random), 0.2 * unit(random));
+    p.add(x, 0.004 + 0.006 * unit(random), 2500.0);
+  }
+  const double skin = 0.003;
+  // Pairs at the reach to the last bit: one just inside, one just outside.
+  for (int k = 0; k < 40; ++k) {
+    const Vec3 x(0.2 * unit(random), 0.2 * unit(random), 0.2 * unit(random));
+    const double ri = 0.005, rj = 0.007, reach = ri + rj + skin;
+    const double gap = k % 2 == 0 ? std::nextafter(reach, 0.0) : reach;
+    p.add(x, ri, 2500.0);
+    p.add(x + Vec3(gap, 0.0, 0.0), rj, 2500.0);
+  }
+  const std::vector<std::vector<std::uint32_t>> expected = pairsWithin(p, skin);
+  std::size_t pairs = 0;
+  for (const auto& row : expected) pairs += row.size();
+  ASSERT_GT(pairs, 1000u);
+  for (int threads : {1, 2, 3}) {
+    NeighbourList list;
+    list.skin = skin;
+    rebuildNeighbourList(list, p, {}, false, 0.0, threads);
+    ASSERT_EQ(list.rowStart.size(), p.size() + 1);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const std::vector<std::uint32_t> row(list.second.begin() + list.rowStart[i],
+                                           list.second.begin() + list.rowStart[i + 1]);
+      ASSERT_EQ(row, expected[i]) << "particle " << i << ", " << threads << " threads";
+    }
+  }
+}
+
+}  // namespace granular
