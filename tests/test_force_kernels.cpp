@@ -8,21 +8,13 @@
 #include "force_pass.hpp"
 #include "granular/simd_build.hpp"
 #include "physics_fixtures.hpp"
+#include "simd_build_guard.hpp"
 
 using namespace granular;
 using granular::testing::fallingGrid;
+using granular::testing::SimdBuildGuard;
 
 namespace {
-
-/// Restores the CPU's own choice when a test ends.
-class KernelBuildGuard {
- public:
-  KernelBuildGuard() : saved_(simdBuild()) {}
-  ~KernelBuildGuard() { setSimdBuild(saved_); }
-
- private:
-  SimdBuild saved_;
-};
 
 struct RunRecord {
   std::uint64_t hash = 0;
@@ -46,7 +38,7 @@ RunRecord runWith(SimdBuild build, const SimulationConfig& cfg) {
 }  // namespace
 
 TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
-  KernelBuildGuard guard;
+  SimdBuildGuard guard;
   if (!setSimdBuild(SimdBuild::Avx2)) {
     GTEST_SKIP() << "no AVX2 build here (a CPU without AVX2, or a sanitizer build)";
   }
@@ -85,7 +77,7 @@ TEST(ForceKernels, BaselineAndAvx2BuildsGiveTheSameBits) {
 }
 
 TEST(ForceKernels, TheCpusChoiceIsReported) {
-  KernelBuildGuard guard;
+  SimdBuildGuard guard;
   EXPECT_TRUE(setSimdBuild(SimdBuild::Baseline));  // every x86-64 CPU runs it
   EXPECT_EQ(simdBuild(), SimdBuild::Baseline);
 }

@@ -21,6 +21,7 @@
 #include "granular/error.hpp"
 #include "granular/simd_build.hpp"
 #include "physics_fixtures.hpp"
+#include "simd_build_guard.hpp"
 
 using namespace granular;
 using std::numbers::pi;
@@ -268,7 +269,7 @@ TEST(LiquidBridge, AWetBedAtRestKeepsItsEnergy) {
 
 TEST(LiquidBridge, TheSameBitsOnAnyThreadCountAndVectorBuild) {
   SimulationConfig cfg = wetBed(1e-7);
-  const SimdBuild own = simdBuild();
+  const granular::testing::SimdBuildGuard guard;
   std::uint64_t hash[3];
   double bridge[3];
   for (int run = 0; run < 3; ++run) {
@@ -279,7 +280,6 @@ TEST(LiquidBridge, TheSameBitsOnAnyThreadCountAndVectorBuild) {
     hash[run] = sim.stateHash();
     bridge[run] = sim.energy().of("bridge_J");
   }
-  setSimdBuild(own);
   EXPECT_NE(bridge[0], 0.0);
   EXPECT_EQ(hash[0], hash[1]);
   EXPECT_EQ(bridge[0], bridge[1]);

@@ -11,10 +11,12 @@
 #include "granular/simd_build.hpp"
 #include "network_bound.hpp"
 #include "physics_fixtures.hpp"
+#include "simd_build_guard.hpp"
 #include "simulation_state.hpp"
 
 using namespace granular;
 using granular::testing::fallingGrid;
+using granular::testing::SimdBuildGuard;
 
 namespace {
 
@@ -31,15 +33,6 @@ NetworkFrequency walked(const SimulationState& s, double lookahead) {
   out.relativeKinetic = energy.value();
   return out;
 }
-
-class SimdBuildGuard {
- public:
-  SimdBuildGuard() : saved_(simdBuild()) {}
-  ~SimdBuildGuard() { setSimdBuild(saved_); }
-
- private:
-  SimdBuild saved_;
-};
 
 }  // namespace
 
