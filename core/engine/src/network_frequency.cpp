@@ -421,7 +421,8 @@ void tallyListedPairs(const SimulationState& s, double lookahead, MotionTally& t
   const Particles& p = s.particles;
   const NeighbourList& list = s.neighbours;
   const std::size_t n = p.size();
-  // Below this many pairs a scan takes less than a parallel region's start.
+  // Below this many pairs (a scan of some 60 µs on one thread) the threads are not started:
+  // their start and the merge would be a large share of what they save.
   constexpr std::size_t kPairsForThreads = 4096;
   const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
   const int teams = list.second.size() < kPairsForThreads ? 1 : std::max(threads, 1);
