@@ -459,7 +459,7 @@ void tallyListedPairs(const SimulationState& s, double lookahead, MotionTally& t
 NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
   MotionTally tally(s);
   if (pairsFromGeometry(s)) {
-    tallyListedPairs(s, lookahead > 0.0 ? lookahead : 0.0, tally);
+    tallyListedPairs(s, lookahead, tally);  // pairMotions: no approach at lookahead <= 0
     walkNetworkContacts<false>(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
   } else {
     walkNetworkContacts(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
