@@ -244,6 +244,8 @@ TEST_F(SceneFingerprintTest, AnOlderCheckpointCannotBeCheckedAgainstAScene) {
   material += 1 + 4 * 8;
   // and after it the counts of growing modes, new in 9: 2 counts and the calibration's.
   material += 8 + 8 + 4;
+  // and after them the fewest steps between checks of an automatic step, new in 10.
+  material += 8;
   bytes.erase(bytes.end() - 8 - std::ptrdiff_t(material) - 1, bytes.end() - 8);
   const std::uint32_t version = 3;
   std::memcpy(bytes.data() + 8, &version, 4);

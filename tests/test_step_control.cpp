@@ -1,17 +1,21 @@
 /// The step control (StepControl, docs/physics.md §2.16): Gear's order across step changes, a
 /// step that lands on the times asked for, a fixed step that a stiffening contact crosses
 /// (on_unstable stop and warn), and time_step = "auto" on a bed that falls, collides and
-/// settles: the balance closes as at a fixed step and the chosen steps stay within the network's.
+/// settles: the balance closes as at a fixed step and the chosen steps stay within the network's;
+/// the checks of a still automatic step further apart, back to the least where it moves, and the
+/// gap across a checkpoint.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
+#include "granular/checkpoint.hpp"
 #include "granular/contact_theory.hpp"
 #include "granular/error.hpp"
 #include "granular/impact_probe.hpp"
 #include "granular/network_step.hpp"
 #include "physics_fixtures.hpp"
+#include "temp_folder.hpp"
 
 using namespace granular;
 
@@ -297,4 +301,84 @@ TEST(StepControl, TheAccuracyFloorIsForImpactsNotForTheNetworksSlowMotion) {
     EXPECT_LE(sim.config().timeStep, floor * (1 + 1e-12)) << sim.time();
   }
   EXPECT_GT(stepsInContact, 10);
+}
+
+class StillStep : public granular::testing::TempFolderTest {
+ protected:
+  StillStep() : TempFolderTest("granular_still_step") {}
+};
+
+TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsTheirGap) {
+  // A frictional Hooke bed (the paper's material) settled at time_step = "auto", then carried
+  // along x at 0.2 m/s as one body with its box: the neighbour list is rebuilt every few steps
+  // while the contact network, and so the step (the network's, the floor stretched), holds
+  // still. A check comes at a rebuild at least 25 steps after the last, then twice as far apart
+  // at each check that leaves the step within 1 %, up to recheckSteps (100). Three times the
+  // normal damping then moves the step by a quarter with no motion (its check is the setter's,
+  // the floor stays stretched): the next check comes at a rebuild 25 steps on again, and the
+  // gaps double from there. A checkpoint written while the checks are 100 steps apart resumes
+  // with that gap, bit for bit.
+  SimulationConfig cfg;
+  cfg.material.youngModulus = 0.3e6;
+  cfg.material.shearModulus = 0.11e6;
+  cfg.material.normalDamping = 60.0;
+  cfg.material.tangentialDamping = 10.0;
+  cfg.material.friction = 0.3;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.threads = 1;
+  cfg.step.automatic = true;
+  Simulation settled = granular::testing::fallingGrid(4, 4, 4, cfg, 0.3);
+  settled.advanceTo(3.0);
+  ASSERT_LT(settled.kineticEnergy(), 1e-4);  // still
+  Particles p = settled.particles();
+  const Vec3 carried(0.2, 0.0, 0.0);
+  for (Vec3& v : p.velocity) v = carried;
+  std::vector<Wall> walls = settled.walls();
+  Simulation sim(std::move(p), std::move(walls), cfg);
+  for (std::size_t w = 0; w < sim.walls().size(); ++w) sim.setWallVelocity(w, carried);
+  const double floor = sim.contactScale().duration / cfg.step.contactResolution;
+  sim.advanceTo(2.0);  // the springs the copy dropped stretched again: the bed still
+
+  // The steps between consecutive checks over `steps` steps (the first counted from the start).
+  auto gapsOf = [](Simulation& sim, int steps) {
+    std::vector<int> gaps;
+    std::uint64_t checks = sim.counters().stepChecks;
+    int since = 0;
+    for (int k = 0; k < steps; ++k) {
+      sim.step();
+      ++since;
+      if (sim.counters().stepChecks == checks) continue;
+      checks = sim.counters().stepChecks;
+      gaps.push_back(since);
+      since = 0;
+    }
+    return gaps;
+  };
+  auto gapsOver = [&](int steps) { return gapsOf(sim, steps); };
+  const std::uint64_t rebuilds = sim.counters().rebuilds;
+  std::vector<int> gaps = gapsOver(700);
+  EXPECT_GT(sim.counters().rebuilds - rebuilds, 700u / 12u);  // a rebuild every few steps
+  EXPECT_GT(sim.config().timeStep, 1.3 * floor);              // stretched
+  ASSERT_GE(gaps.size(), 5u);
+  for (std::size_t k = 1; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], 100) << k;
+
+  const std::filesystem::path file = dir_ / "still.ckpt";
+  writeCheckpoint(sim, file, 0);
+  Simulation resumed = readCheckpoint(file);
+  gaps = gapsOver(250);
+  EXPECT_EQ(gapsOf(resumed, 250), gaps);
+  EXPECT_EQ(resumed.stateHash(), sim.stateHash());
+
+  Material damped = sim.config().material;
+  damped.normalDamping *= 3.0;
+  const double before = sim.config().timeStep;
+  sim.setMaterial(damped);
+  EXPECT_LT(sim.config().timeStep, 0.98 * before);
+  gaps = gapsOver(400);
+  EXPECT_GT(sim.config().timeStep, 1.3 * floor);
+  ASSERT_GE(gaps.size(), 3u);
+  EXPECT_LT(gaps[0], 50);  // 25 and the steps to the next rebuild
+  EXPECT_GE(gaps[1], 50);
+  EXPECT_LT(gaps[1], 100);
+  for (std::size_t k = 2; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], 100) << k;
 }

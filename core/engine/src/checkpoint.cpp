@@ -564,6 +564,8 @@ void writeFrame(const Simulation& sim, const std::filesystem::path& file,
   w(check.estimated), w(calibration.boundOmega), w(calibration.boundDamping);
   w(calibration.omega), w(calibration.damping);
   w(counters.rollbacks), w(counters.keptGrowths), w(calibration.rollbacks);  // version 9
+  std::uint64_t checkGap = state.checkGap;                                   // version 10
+  w(checkGap);
   if (std::any_of(state.walls.begin(), state.walls.end(),
                   [](const Wall& x) { return x.shell(); })) {
     std::string tag(kWallShapesTag);
@@ -739,6 +741,7 @@ CheckpointContents parseFrame(std::span<const char> bytes, const std::string& na
     r(state->counters.rollbacks), r(state->counters.keptGrowths);
     r(state->calibration.rollbacks);
   }
+  if (version >= 10) r(state->checkGap);  // any value: recheckSteps bounds the run all the same
   NeighbourList& list = state->neighbours;
   // The optional trailing sections, each tagged, in the order written.
   std::string tag;

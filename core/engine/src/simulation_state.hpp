@@ -301,7 +301,11 @@ struct SimulationState {
   /// The step asked for (fixed) or chosen (automatic) [s]; config.timeStep is the next step's,
   /// shorter than this one when advanceTo lands on a time. 0: config.timeStep.
   double targetStep = 0.0;
-  std::uint64_t stepsSinceCheck = 0;         ///< steps since the step was last checked
+  std::uint64_t stepsSinceCheck = 0;  ///< steps since the step was last checked
+  /// The fewest steps between two checks at rebuilds of an automatic step above its floor
+  /// (stepCheckDue): doubled at each check that leaves the step within 1 %, up to
+  /// StepControl::recheckSteps; 0: the least (25).
+  std::uint64_t checkGap = 0;
   StepCheck stepCheck;                       ///< the last check
   NetworkCalibration calibration;            ///< the estimate against the bound
   studies::StepControlCost stepControlCost;  ///< the reviews inside the steps (not checkpointed)

@@ -30,7 +30,9 @@ enum class StepReview {
 /// What the step that is running does once corrected: a check after a rebuild, at most every 10
 /// steps (a fixed step every 25: a settling bed rebuilds every few steps, and a check costs
 /// about one step), and at least every recheckSteps steps; with an automatic step above its
-/// floor (stretched: no contact an impact), a scan at the rebuilds between.
+/// floor (stretched: no contact an impact), at most every 25 steps and twice as far apart at
+/// each check that leaves it within 1 % (SimulationState::checkGap), up to recheckSteps, and a
+/// scan at the rebuilds between.
 StepReview stepCheckDue(const SimulationState& s, bool rebuilt);
 /// The scan (StepReview::Scan): a check where the contacts' motion brings the floor below the
 /// step, else nothing but the count of steps since the check.

@@ -53,9 +53,12 @@ class CheckpointError : public std::runtime_error {
 /// 9: the growing modes met (StepCounters::rollbacks and keptGrowths, and the calibration's
 ///    NetworkCalibration::rollbacks), after the calibration: a run whose estimate a growing
 ///    mode raised resumes bit for bit (older files: none met).
+/// 10: the fewest steps between checks at rebuilds of an automatic step (its gap, lengthened
+///    while the step holds still), after the growing modes: an automatic run resumes bit for
+///    bit (older files: the least).
 /// Versions 2 to 5 still read; checked against a SceneFingerprint they are refused, since their
 /// one number cannot say whether the scene's particle files are the same.
-inline constexpr std::uint32_t kCheckpointVersion = 9;
+inline constexpr std::uint32_t kCheckpointVersion = 10;
 
 /// One input of a run and the hash of its content: a part of the scene ("material",
 /// "stages[1]") or a file the scene reads ("particles[0]": the CSV's bytes).

@@ -49,8 +49,9 @@ enum class OnUnstable {
 /// How the engine chooses its time step (docs/physics.md §2.16). A fixed step is checked against
 /// the network's stable step (network_step.hpp) at the start and whenever the step is checked;
 /// an automatic one is re-chosen then. The step is checked when the neighbour list is rebuilt
-/// (at most every 10 steps; a fixed step every 25) and at least every `recheckSteps` steps,
-/// never inside a step.
+/// (at most every 10 steps; a fixed step every 25, and an automatic one above its floor every
+/// 25, then twice as far apart at each check that leaves it within 1 %) and at least every
+/// `recheckSteps` steps, never inside a step.
 struct StepControl {
   bool automatic = false;  ///< Δt chosen from the live contacts (time_step = "auto")
   /// Δt = safety × the network's stable step, (0, 1]: the bound's, or with velocity Verlet the
