@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <iostream>
 #include <optional>
 
@@ -282,6 +283,9 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
   const std::filesystem::path out = runDir / "figures";
   FigureSet set;
   std::optional<render::FigureRenderer> renderer;
+  // A figure's PNG is encoded on a thread of its own while the next one is drawn (the particle
+  // figures' OpenGL context stays on this thread): encoding costs about as much as drawing.
+  std::future<void> encoding;
   // A data file of a line plot, read, with every cell of `columns` that is not a number said:
   // the plot leaves it out.
   auto plotted = [&](const std::filesystem::path& file, const std::vector<std::string>& columns,
@@ -308,7 +312,11 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
       createOutputFolder(out);
       renderer.emplace();
     }
-    render::writePng(makeImage(), out / name, kDpi);
+    render::Image image = makeImage();
+    if (encoding.valid()) encoding.get();  // the last figure's PNG, which may throw
+    encoding = std::async(std::launch::async, [image = std::move(image), file = out / name] {
+      render::writePng(image, file, kDpi);
+    });
     set.written.push_back({caption, std::filesystem::path("figures") / name});
   };
   const Case& mu0 = kCases[0];
@@ -441,6 +449,7 @@ FigureSet drawPaperFigures(const std::filesystem::path& runDir) {
                                    "Trajectories of σ₁, end of stage 1 (" + label + ")");
          });
   }
+  if (encoding.valid()) encoding.get();
   return set;
 }
 

@@ -75,6 +75,8 @@ void writePng(const Image& image, const std::filesystem::path& file, double dpi,
   }
   png_set_write_fn(png, &out.stream(), writeToStream, flushStream);
   png_set_compression_level(png, std::clamp(compressionLevel, 0, 9));  // 1: encoding is costly
+  // The 'up' filter alone: as small as libpng's adaptive choice on figures, faster to encode.
+  png_set_filter(png, 0, PNG_FILTER_UP);
   png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGB_ALPHA,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   const auto ppm = static_cast<png_uint_32>(std::lround(dpi / 0.0254));
