@@ -26,13 +26,25 @@ ParticleSums particleSums(const SimulationState& s) {
     const std::size_t t = std::size_t(omp_get_thread_num());
     const std::size_t used = std::size_t(omp_get_num_threads());
     ParticleSums& part = parts[t];
+    // The terms in batches, each added with the exact sum's batched add: the same accumulators
+    // as adding them one by one, at a fraction of the cost.
+    constexpr std::size_t kBatch = 256;
+    double kinetic[kBatch], potential[kBatch], spin[kBatch];
+    std::size_t held = 0;
+    auto flush = [&] {
+      part.translational.addAll(kinetic, held);
+      part.potential.addAll(potential, held);
+      if (s.frictional) part.rotational.addAll(spin, held);
+      held = 0;
+    };
     for (std::size_t i = n * t / used; i < n * (t + 1) / used; ++i) {
       if (!all && !s.owned[i]) continue;
-      part.translational.add(0.5 * p.mass[i] * p.velocity[i].squaredNorm());
-      part.potential.add(p.mass[i] * s.config.gravity.dot(p.position[i]));
-      if (s.frictional)
-        part.rotational.add(0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm());
+      kinetic[held] = 0.5 * p.mass[i] * p.velocity[i].squaredNorm();
+      potential[held] = p.mass[i] * s.config.gravity.dot(p.position[i]);
+      if (s.frictional) spin[held] = 0.5 * p.inertia(i) * p.angularVelocity[i].squaredNorm();
+      if (++held == kBatch) flush();
     }
+    flush();
   }
   ParticleSums sums = parts[0];
   for (std::size_t t = 1; t < parts.size(); ++t) {
