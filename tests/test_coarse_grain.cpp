@@ -13,18 +13,28 @@
 
 using namespace granular;
 
+namespace {
+
+/// n × n columns of n spheres of radius r along z, dx apart, dz between centres in a column.
+Particles columns(int n, double r, double dx, double dz, double density) {
+  Particles p;
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) p.add(Vec3(i * dx, j * dx, k * dz), r, density);
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
 TEST(CoarseGrain, LatticeUnderKnownForcesGivesForcePerArea) {
   // Columns of spheres along z, overlapping by h (Hooke, no damping, at rest): every contact
   // carries F = k h. Columns are dx apart, so σ_zz = −F/dx² and nothing else.
   const double r = 0.03, h = 0.002, dz = 2 * r - h, dx = 2.2 * r;
   Material mat;
   mat.normalDamping = 0;
-  Particles p;
-  for (int k = 0; k < 12; ++k) {
-    for (int j = 0; j < 12; ++j) {
-      for (int i = 0; i < 12; ++i) p.add(Vec3(i * dx, j * dx, k * dz), r, mat.density);
-    }
-  }
+  Particles p = columns(12, r, dx, dz, mat.density);
   SimulationConfig cfg;
   cfg.material = mat;
   cfg.gravity = Vec3::Zero();
@@ -80,12 +90,7 @@ TEST(CoarseGrain, FieldsEvaluatedOnSeveralThreadsAtOnceAreTheSerialOnesToTheBit)
   Material mat;
   mat.normalDamping = 0;
   const double r = 0.03, dz = 2 * r - 0.002, dx = 2.1 * r;
-  Particles p;
-  for (int k = 0; k < 8; ++k) {
-    for (int j = 0; j < 8; ++j) {
-      for (int i = 0; i < 8; ++i) p.add(Vec3(i * dx, j * dx, k * dz), r, mat.density);
-    }
-  }
+  Particles p = columns(8, r, dx, dz, mat.density);
   SimulationConfig cfg;
   cfg.material = mat;
   cfg.timeStep = 1e-4;

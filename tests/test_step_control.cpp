@@ -60,6 +60,20 @@ double oscillatorError(double dt, bool changing) {
   return std::abs(h - (o.equilibrium + o.amplitude * std::cos(o.omega * o.sim.time())));
 }
 
+/// The paper's frictional Hooke material, velocity Verlet at time_step = "auto", one thread.
+SimulationConfig paperMaterialAtAuto() {
+  SimulationConfig cfg;
+  cfg.material.youngModulus = 0.3e6;
+  cfg.material.shearModulus = 0.11e6;
+  cfg.material.normalDamping = 60.0;
+  cfg.material.tangentialDamping = 10.0;
+  cfg.material.friction = 0.3;
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.threads = 1;
+  cfg.step.automatic = true;
+  return cfg;
+}
+
 }  // namespace
 
 TEST(StepControl, GearKeepsItsOrderAcrossStepChanges) {
@@ -252,15 +266,7 @@ TEST(StepControl, TheAccuracyFloorIsForImpactsNotForTheNetworksSlowMotion) {
   // springs store and the step is the network's (safety × its stable step), above t_c/10. A
   // sphere then thrown at it at 2 m/s brings the floor back before it touches: every step it
   // spends in contact is at most t_c/10.
-  SimulationConfig cfg;
-  cfg.material.youngModulus = 0.3e6;
-  cfg.material.shearModulus = 0.11e6;
-  cfg.material.normalDamping = 60.0;
-  cfg.material.tangentialDamping = 10.0;
-  cfg.material.friction = 0.3;
-  cfg.integrator = Integrator::VelocityVerlet;
-  cfg.threads = 1;
-  cfg.step.automatic = true;
+  const SimulationConfig cfg = paperMaterialAtAuto();
   Simulation sim = granular::testing::fallingGrid(4, 4, 4, cfg, 0.3);
   const double floor = sim.contactScale().duration / cfg.step.contactResolution;
   while (sim.time() < 1.5) {
@@ -318,15 +324,7 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
   // the floor stays stretched): the next check comes at a rebuild 25 steps on again, and the
   // gaps double from there. A checkpoint written while the checks are 100 steps apart resumes
   // with that gap, bit for bit.
-  SimulationConfig cfg;
-  cfg.material.youngModulus = 0.3e6;
-  cfg.material.shearModulus = 0.11e6;
-  cfg.material.normalDamping = 60.0;
-  cfg.material.tangentialDamping = 10.0;
-  cfg.material.friction = 0.3;
-  cfg.integrator = Integrator::VelocityVerlet;
-  cfg.threads = 1;
-  cfg.step.automatic = true;
+  const SimulationConfig cfg = paperMaterialAtAuto();
   Simulation settled = granular::testing::fallingGrid(4, 4, 4, cfg, 0.3);
   settled.advanceTo(3.0);
   ASSERT_LT(settled.kineticEnergy(), 1e-4);  // still
