@@ -103,12 +103,6 @@ TEST(NeighbourRows, RoundedReferencePositionsNeverHideAMoveOfHalfTheSkin) {
   EXPECT_FALSE(neighbourListStale(list, p, {}, largestMove2(list, p, 0, p.size())));
 }
 
-}  // namespace
-}  // namespace granular
-
-namespace granular {
-namespace {
-
 /// The pairs j > i of each particle within R_i + R_j + margin, by testing every pair.
 std::vector<std::vector<std::uint32_t>> pairsWithin(const Particles& p, double margin) {
   std::vector<std::vector<std::uint32_t>> rows(p.size());

@@ -352,9 +352,8 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
     }
     return gaps;
   };
-  auto gapsOver = [&](int steps) { return gapsOf(sim, steps); };
   const std::uint64_t rebuilds = sim.counters().rebuilds;
-  std::vector<int> gaps = gapsOver(700);
+  std::vector<int> gaps = gapsOf(sim, 700);
   EXPECT_GT(sim.counters().rebuilds - rebuilds, 700u / 12u);  // a rebuild every few steps
   EXPECT_GT(sim.config().timeStep, 1.3 * floor);              // stretched
   ASSERT_GE(gaps.size(), 5u);
@@ -363,7 +362,7 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
   const std::filesystem::path file = dir_ / "still.ckpt";
   writeCheckpoint(sim, file, 0);
   Simulation resumed = readCheckpoint(file);
-  gaps = gapsOver(250);
+  gaps = gapsOf(sim, 250);
   EXPECT_EQ(gapsOf(resumed, 250), gaps);
   EXPECT_EQ(resumed.stateHash(), sim.stateHash());
 
@@ -372,7 +371,7 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
   const double before = sim.config().timeStep;
   sim.setMaterial(damped);
   EXPECT_LT(sim.config().timeStep, 0.98 * before);
-  gaps = gapsOver(400);
+  gaps = gapsOf(sim, 400);
   EXPECT_GT(sim.config().timeStep, 1.3 * floor);
   ASSERT_GE(gaps.size(), 3u);
   EXPECT_LT(gaps[0], 50);  // 25 and the steps to the next rebuild

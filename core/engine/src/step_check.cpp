@@ -20,6 +20,12 @@ namespace {
 /// (every impact of a Gear5 step at t_c/50 spans two such checks).
 constexpr std::uint64_t kStepsBetweenChecks = 10, kStepsBetweenFixedChecks = 25;
 
+/// Whether `dt` [s] lies above the accuracy floor at the expected impact speed, t_c / N: an
+/// automatic step there is stretched (its contacts move with the network, no impact).
+bool aboveFloor(const SimulationState& s, double dt) {
+  return dt > s.contactScale.duration / s.config.step.contactResolution;
+}
+
 /// A check leaves an automatic step still where it moves it by no more than this fraction: the
 /// checks at rebuilds then come further apart (nextCheckGap).
 constexpr double kStillStep = 0.01;
@@ -178,8 +184,8 @@ std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrato
 /// over two of the longest runs (lookaheadOf).
 std::uint64_t nextCheckGap(const SimulationState& s, double before, double chosen) {
   const StepControl& control = s.config.step;
-  const bool stretched = chosen > s.contactScale.duration / control.contactResolution;
-  if (!stretched || !(before > 0.0) || !(std::abs(chosen / before - 1.0) <= kStillStep)) return 0;
+  if (!aboveFloor(s, chosen) || !(before > 0.0) || !(std::abs(chosen / before - 1.0) <= kStillStep))
+    return 0;
   return std::min(2 * std::max(s.checkGap, kStepsBetweenFixedChecks), control.recheckSteps);
 }
 
@@ -275,8 +281,7 @@ StepReview stepCheckDue(const SimulationState& s, bool rebuilt) {
   // changes slowly) is checked at a rebuild as seldom as a fixed one, and the more seldom the
   // longer it holds still (checkGap); it looks at the rebuilds between whether the new list
   // holds a particle about to strike, which brings the floor back before it touches.
-  const bool stretched =
-      control.automatic && s.config.timeStep > s.contactScale.duration / control.contactResolution;
+  const bool stretched = control.automatic && aboveFloor(s, s.config.timeStep);
   const std::uint64_t gap = !control.automatic ? kStepsBetweenFixedChecks
                             : stretched        ? std::max(s.checkGap, kStepsBetweenFixedChecks)
                                                : kStepsBetweenChecks;
