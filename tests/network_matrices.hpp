@@ -1,15 +1,17 @@
 #pragma once
 /// The exact spectrum of a bed's linearised contact network, assembled independently of the
 /// engine (dense, Eigen): its mass-weighted stiffness and damping matrices, their largest
-/// eigenvalue, and the spectral radius of one velocity-Verlet step on them. The truth the step
-/// control's bound and estimate are tested against.
+/// eigenvalue, and the spectral radius of one velocity-Verlet or Gear5 step on them. The truth
+/// the step control's bound and estimate are tested against.
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "granular/contact_theory.hpp"
 #include "granular/network_frequency.hpp"
 #include "granular/simulation.hpp"
+#include "integrators.hpp"
 
 namespace granular::testing {
 
@@ -106,6 +108,39 @@ inline double verletStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& 
   step.block(2 * n, 0, n, n) = ay;
   step.block(2 * n, n, n, n) = av;
   step.block(2 * n, 2 * n, n, n) = aa;
+  return Eigen::EigenSolver<Eigen::MatrixXd>(step, false).eigenvalues().cwiseAbs().maxCoeff();
+}
+
+/// The spectral radius of one Gear5 step on the linearised network y'' = −A y − D y', as the
+/// engine takes it: each unit vector of the state (y and its derivatives to the fifth) stepped
+/// through `Gear5::predict` and `Gear5::correct` themselves, the acceleration evaluated at the
+/// predicted y and y' (the dashpots at the predicted velocity). The k-th derivative is taken
+/// × Δt^k, a similarity that leaves the spectrum as it is and the map's entries of one scale
+/// (unscaled they span Δt^±5, beyond what the eigensolver resolves).
+inline double gearStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt) {
+  const Eigen::Index n = a.rows();
+  Eigen::MatrixXd step(6 * n, 6 * n);
+  std::vector<Vec3> y(n), v(n), accel(n);
+  Derivatives z;
+  std::vector<Vec3>* parts[6] = {&y, &v, &z.d2, &z.d3, &z.d4, &z.d5};
+  const double scale[6] = {
+      1.0, dt, dt * dt, dt * dt * dt, dt * dt * dt * dt, dt * dt * dt * dt * dt};
+  Eigen::VectorXd yp(n), vp(n);
+  for (Eigen::Index column = 0; column < 6 * n; ++column) {
+    for (std::vector<Vec3>* part : parts) part->assign(n, Vec3::Zero());
+    (*parts[column / n])[column % n].x() = 1.0 / scale[column / n];
+    Gear5::predict(&y, v, z, dt);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      yp(i) = y[i].x();
+      vp(i) = v[i].x();
+    }
+    const Eigen::VectorXd f = -a * yp - d * vp;
+    for (Eigen::Index i = 0; i < n; ++i) accel[i] = Vec3(f(i), 0, 0);
+    Gear5::correct(&y, v, z, accel, dt);
+    for (int k = 0; k < 6; ++k) {
+      for (Eigen::Index i = 0; i < n; ++i) step(k * n + i, column) = scale[k] * (*parts[k])[i].x();
+    }
+  }
   return Eigen::EigenSolver<Eigen::MatrixXd>(step, false).eigenvalues().cwiseAbs().maxCoeff();
 }
 

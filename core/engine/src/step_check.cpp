@@ -20,10 +20,20 @@ namespace {
 /// (every impact of a Gear5 step at t_c/50 spans two such checks).
 constexpr std::uint64_t kStepsBetweenChecks = 10, kStepsBetweenFixedChecks = 25;
 
-/// Whether `dt` [s] lies above the accuracy floor at the expected impact speed, t_c / N: an
-/// automatic step there is stretched (its contacts move with the network, no impact).
+/// The longest step an impact of the contact `scale` may take with `integrator`: t_c / N, and
+/// for Gear5 its binary limit (t_c/50) where that is shorter: contacts that open and close
+/// inside a step kick its higher derivatives, and beds gain energy above t_c/40
+/// (bench/RESULTS.md, "Gear in a bed").
+double impactStep(const SimulationState& s, Integrator integrator, const ContactScale& scale) {
+  const double floor = scale.duration / s.config.step.contactResolution;
+  return integrator == Integrator::Gear5 ? std::min(floor, maxStableStep(scale, integrator))
+                                         : floor;
+}
+
+/// Whether `dt` [s] lies above the accuracy floor at the expected impact speed: an automatic
+/// step there is stretched (its contacts move with the network, no impact).
 bool aboveFloor(const SimulationState& s, double dt) {
-  return dt > s.contactScale.duration / s.config.step.contactResolution;
+  return dt > impactStep(s, s.config.integrator, s.contactScale);
 }
 
 /// A check leaves an automatic step still where it moves it by no more than this fraction: the
@@ -43,17 +53,17 @@ double storedEnergy(const SimulationState& s) {
   return stored;
 }
 
-/// The accuracy floor t_c / N of the stiffest contact, from what the check `f` measured: a
-/// Hertz contact is shorter at a higher speed, so the floor follows the run's fastest approach
-/// wherever it exceeds the expected one (config.impactSpeed); Hooke's does not depend on it.
-/// The floor is for impacts: where the kinetic energy of the contacts' relative motion K is
-/// under kSlowMotion of the energy E their springs store, the contacts move with the network,
-/// whose step governs, and the floor stretches as kSlowMotion E / K (to +∞ at rest): an
-/// impact misses energy first order in the step and in proportion to its own, so what the
-/// impacts miss stays what they would at the threshold at t_c / N (docs/physics.md §2.16).
-/// Gear5 also keeps its binary limit (t_c/50): its interval on a smooth network is long, but
-/// contacts that open and close inside a step kick its higher derivatives, and beds gain energy
-/// above t_c/40 (bench/RESULTS.md, "Gear in a bed") where the network allows t_c/10.
+/// The accuracy floor of the stiffest contact (impactStep: t_c / N, Gear5's t_c/50), from what
+/// the check `f` measured: a Hertz contact is shorter at a higher speed, so the floor follows
+/// the run's fastest approach wherever it exceeds the expected one (config.impactSpeed);
+/// Hooke's does not depend on it. The floor is for impacts: where the kinetic energy of the
+/// contacts' relative motion K is under kSlowMotion of the energy E their springs store, the
+/// contacts move with the network, whose step governs, and the floor stretches as
+/// kSlowMotion E / K (to +∞ at rest): an impact misses energy first order in the step and in
+/// proportion to its own, so what the impacts miss stays what they would at the threshold
+/// (docs/physics.md §2.16). Gear5's binary limit stretches with it: it is for contacts that
+/// open and close inside a step, and the network's own interval for Gear5 (§2.15, the damping
+/// that made beds gain energy above t_c/40) bounds the step wherever the floor does not.
 double accuracyFloor(const SimulationState& s, Integrator integrator, const NetworkFrequency& f,
                      double stored) {
   const bool faster =
@@ -61,12 +71,11 @@ double accuracyFloor(const SimulationState& s, Integrator integrator, const Netw
   const ContactScale scale =
       faster ? stiffestContact(s.config.material, s.contactScale.radius, f.fastestApproach)
              : s.contactScale;
-  double floor = scale.duration / s.config.step.contactResolution;
+  double floor = impactStep(s, integrator, scale);
   const double slow = kSlowMotion * stored, moving = f.relativeKinetic;
   if (f.contacts > 0 && moving < slow) {
     floor = moving > 0.0 ? floor * (slow / moving) : std::numeric_limits<double>::infinity();
   }
-  if (integrator == Integrator::Gear5) floor = std::min(floor, maxStableStep(scale, integrator));
   return floor;
 }
 
@@ -117,9 +126,8 @@ NetworkFrequency estimated(const SimulationState& s, const NetworkFrequency& f, 
 /// The network's stable step for `integrator` now, counting the contacts that may form within
 /// two check intervals at step `dt` (docs/physics.md §2.16), and the accuracy floor. Where the
 /// bound refuses what is needed (the step asked for, or the floor an automatic step would
-/// take), velocity Verlet's step comes from the estimate (NetworkCalibration) kept in
-/// `calibration` (null: made for this check alone). Gear5 keeps the bound: its binary limit
-/// caps it below the network's step anyway.
+/// take), the step comes from the estimate (NetworkCalibration) kept in `calibration` (null:
+/// made for this check alone), for either integrator at its own interval (§2.15).
 StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt,
                       NetworkCalibration* calibration) {
   const StepControl& control = s.config.step;
@@ -144,8 +152,7 @@ StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt
   c.contacts = f.contacts + f.approaching;
   const double needed = control.automatic ? c.accuracyStep / control.safety : dt;
   NetworkFrequency used = f;
-  if (integrator == Integrator::VelocityVerlet && c.contacts > 0 &&
-      needed > networkStepOf(integrator, f)) {
+  if (c.contacts > 0 && needed > networkStepOf(integrator, f)) {
     NetworkCalibration alone;
     used = estimated(s, f, lookahead, calibration ? *calibration : alone);
     c.estimated = true;
