@@ -80,12 +80,13 @@ inline Simulation fallingGrid(int nx, int ny, int nz, const SimulationConfig& cf
 /// A Hertz bed (μ = 0.3, γn = 200) of nx × ny × nz spheres fallen and settled for 2.5 s at an
 /// automatic velocity-Verlet step on `threads` threads: at rest its accuracy floor stretches, and
 /// the step comes from the network's spectrum (its estimate, docs/physics.md §2.16).
-inline Simulation settledAutomaticBed(int nx = 3, int ny = 3, int nz = 3, int threads = 0) {
+inline Simulation settledAutomaticBed(int nx = 3, int ny = 3, int nz = 3, int threads = 0,
+                                      Integrator integrator = Integrator::VelocityVerlet) {
   SimulationConfig cfg;
   cfg.material.normalLaw = NormalLaw::Hertz;
   cfg.material.friction = 0.3;
   cfg.material.normalDamping = 200.0;
-  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.integrator = integrator;
   cfg.impactSpeed = 3.0;
   cfg.step.automatic = true;
   cfg.threads = threads;
