@@ -21,6 +21,7 @@
 #include "csv_output.hpp"
 #include "granular/bricks.hpp"
 #include "granular/checkpoint.hpp"
+#include "granular/engine_studies.hpp"
 #include "granular/error.hpp"
 #include "granular/mpi_session.hpp"
 #include "granular/run_checks.hpp"
@@ -523,6 +524,14 @@ int runScene(const RunOptions& options) {
           << csvNumber(counted.largestStep) << " s"
           << (sim.config().step.automatic ? " (auto)" : "") << "; " << counted.stepChecks
           << " checks against the contact network";
+  // What the reviews inside the steps cost (a setter's check between calls is not counted):
+  // the step control's share of the run, which a user weighs against a fixed step's.
+  const studies::StepControlCost cost = studies::stepControlCost(sim);
+  if (cost.calibrations > 0) {
+    summary << " (" << cost.calibrations << " making the spectrum's estimate)";
+  }
+  if (cost.scans > 0) summary << " and " << cost.scans << " scans of the contacts' motion";
+  summary << ", " << format("%.3g", cost.seconds) << " s of the wall-clock";
   if (counted.unstableChecks > 0) {
     summary << ", " << counted.unstableChecks << " found the step above it (up to "
             << format("%.3g", counted.worstStepRatio) << " x)";

@@ -228,6 +228,9 @@ TEST(EnergyRunChecks, RunCommandWarnsOnStderrAndInTheSummaryOrStopsWithExitThree
   EXPECT_EQ(sane.status, 0) << sane.stderrText;
   EXPECT_EQ(sane.stderrText, "");
   EXPECT_FALSE(contains(sane.summary, "warning")) << sane.summary;
+  // The step control's reviews and what they cost, on the time step's line.
+  EXPECT_TRUE(contains(sane.summary, " checks against the contact network")) << sane.summary;
+  EXPECT_TRUE(contains(sane.summary, " s of the wall-clock\n")) << sane.summary;
 
   Outcome fast = runScene(dir, writeScene(dir, 1000.0, "[0, 0, -0.01]", ""));
   EXPECT_EQ(fast.status, 0) << fast.stderrText;

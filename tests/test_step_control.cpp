@@ -396,3 +396,41 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
   EXPECT_LT(gaps[1], 100);
   for (std::size_t k = 2; k < gaps.size(); ++k) EXPECT_EQ(gaps[k], 100) << k;
 }
+
+TEST(StepControl, AnAutomaticStepItsFloorSetsIsCheckedAsSeldomAsAFixedOne) {
+  // The paper's material falls and settles at time_step = "auto": while the spheres strike,
+  // the floor t_c/10 sets the step (the network allows more) and the neighbour list is rebuilt
+  // every step or two, yet the checks come at least 25 steps apart, as a fixed step's: the floor
+  // holds the step still, and what could change it (contacts about to form, their approach) is
+  // counted two of the longest runs ahead. The checks change nothing else: the bed falls as a
+  // fixed run at the floor does, to the bit.
+  const SimulationConfig cfg = paperMaterialAtAuto();
+  Simulation sim = granular::testing::fallingGrid(4, 4, 4, cfg, 0.3);
+  const double floor = sim.contactScale().duration / cfg.step.contactResolution;
+  std::uint64_t checks = sim.counters().stepChecks, rebuilds = sim.counters().rebuilds;
+  int since = 0, atFloor = 0, steps = 0;
+  while (sim.time() < 0.5) {
+    sim.step();
+    ++steps;
+    ++since;
+    ASSERT_EQ(sim.config().timeStep, floor) << sim.time();
+    if (sim.counters().stepChecks == checks) continue;
+    checks = sim.counters().stepChecks;
+    ASSERT_EQ(sim.stepCheck().chosenStep, sim.stepCheck().accuracyStep);  // the floor's
+    if (atFloor++ > 0) {
+      EXPECT_GE(since, 25) << sim.time();
+    }
+    since = 0;
+  }
+  EXPECT_GT(sim.counters().rebuilds - rebuilds, std::uint64_t(steps) / 10);  // rebuilt often
+  EXPECT_GE(atFloor, 3);
+  SimulationConfig fixed = cfg;
+  fixed.step.automatic = false;
+  fixed.timeStep = floor;
+  Simulation reference = granular::testing::fallingGrid(4, 4, 4, fixed, 0.3);
+  while (reference.stepCount() < sim.stepCount()) reference.step();
+  for (std::size_t i = 0; i < sim.particles().size(); ++i) {
+    ASSERT_EQ(reference.particles().position[i], sim.particles().position[i]) << i;
+    ASSERT_EQ(reference.particles().velocity[i], sim.particles().velocity[i]) << i;
+  }
+}

@@ -40,6 +40,11 @@ bool aboveFloor(const SimulationState& s, double dt) {
 /// checks at rebuilds then come further apart (nextCheckGap).
 constexpr double kStillStep = 0.01;
 
+/// An automatic step its floor sets is checked as seldom as a fixed one where the network
+/// allows this many times the floor (nextCheckGap): a contact that forms between two checks
+/// stiffens the network by less.
+constexpr double kFloorMargin = 1.25;
+
 /// Contacts whose relative motion holds less kinetic energy than this fraction of what their
 /// springs store move with the network: no impact.
 constexpr double kSlowMotion = 0.01;
@@ -135,14 +140,17 @@ StepCheck measureStep(const SimulationState& s, Integrator integrator, double dt
   StepCheck c;
   const double stored = storedEnergy(s);
   // The power sweeps only tighten the bound, so they stop once it allows what is needed: a
-  // fixed step, or the accuracy floor an automatic step cannot exceed anyway (with no contact
-  // an impact, the 8 sweeps' bound: the floor is then lifted). An automatic step
+  // fixed step, or kFloorMargin × the accuracy floor an automatic step cannot exceed anyway
+  // (with no contact an impact, the 8 sweeps' bound: the floor is then lifted; the margin lets
+  // the checks of a step its floor sets come further apart, nextCheckGap). An automatic step
   // takes at most 8 sweeps (within 1.5 % of 32 on the paper's beds, at a fifth of the cost), a
   // fixed one 32 before it is judged above the network's.
   const NetworkFrequency f = networkFrequencyBound(
       s, control.automatic ? 8 : 32, lookahead, [&](const NetworkFrequency& g) {
         const double needed =
-            control.automatic ? accuracyFloor(s, integrator, g, stored) / control.safety : dt;
+            control.automatic
+                ? kFloorMargin * accuracyFloor(s, integrator, g, stored) / control.safety
+                : dt;
         return needed <= networkStepOf(integrator, g);
       });
   c.approachSpeed = f.fastestApproach;
@@ -182,17 +190,28 @@ std::string aboveNetworkStep(double dt, const StepCheck& c, Integrator integrato
 }
 
 /// The fewest steps from this check to the next at a rebuild (SimulationState::checkGap) for
-/// the automatic step `chosen`, which follows `before`: twice the last, up to the longest run
-/// between checks, where the step stays above its floor and within kStillStep of the last
-/// check's; else the least. A still step changes slowly: the network it follows moves little
-/// between checks (the paper's stage 2: its bound by 0.6 % over the stage). An impact still
-/// brings a check at the next rebuild through the scan, a growing mode is still undone (the
-/// point is kept at each check, however far apart), and the contacts about to form are counted
-/// over two of the longest runs (lookaheadOf).
-std::uint64_t nextCheckGap(const SimulationState& s, double before, double chosen) {
+/// the automatic step `c` chose, which follows `before`.
+/// - Above its floor: twice the last, up to the longest run between checks, where the step stays
+///   within kStillStep of the last check's; else the least. A still step changes slowly: the
+///   network it follows moves little between checks (the paper's stage 2: its bound by 0.6 %
+///   over the stage). An impact still brings a check at the next rebuild through the scan, a
+///   growing mode is still undone (the point is kept at each check, however far apart).
+/// - Set by its floor, the network allowing kFloorMargin × more: a fixed step's gap,
+///   kStepsBetweenFixedChecks. The floor holds the step still while the contacts strike (a
+///   settling bed rebuilds its list every few steps, and a check at every tenth step took
+///   12-16 % of the paper's runs); the scan at each rebuild still brings a check where an
+///   approach faster than the last check's shortens the floor (Hertz), and a contact that
+///   forms meanwhile stiffens the network by less than the margin.
+/// - Set by the network, or its floor within the margin of it: the least.
+std::uint64_t nextCheckGap(const SimulationState& s, const StepCheck& c, double before) {
   const StepControl& control = s.config.step;
-  if (!aboveFloor(s, chosen) || !(before > 0.0) || !(std::abs(chosen / before - 1.0) <= kStillStep))
-    return 0;
+  const double chosen = c.chosenStep;
+  if (!aboveFloor(s, chosen)) {
+    const bool margin =
+        chosen == c.accuracyStep && control.safety * c.networkStep >= kFloorMargin * chosen;
+    return margin ? kStepsBetweenFixedChecks : 0;
+  }
+  if (!(before > 0.0) || !(std::abs(chosen / before - 1.0) <= kStillStep)) return 0;
   return std::min(2 * std::max(s.checkGap, kStepsBetweenFixedChecks), control.recheckSteps);
 }
 
@@ -257,7 +276,7 @@ void checkStep(SimulationState& s) {
     }
     s.stepCheck = c;
     s.counters.fastestApproach = std::max(s.counters.fastestApproach, c.approachSpeed);
-    s.checkGap = longest > 0.0 ? 0 : nextCheckGap(s, before, c.chosenStep);
+    s.checkGap = longest > 0.0 ? 0 : nextCheckGap(s, c, before);
     s.targetStep = c.chosenStep;
     changeStep(s, c.chosenStep);
     keepRollbackPoint(s);
@@ -287,13 +306,17 @@ StepReview stepCheckDue(const SimulationState& s, bool rebuilt) {
   // An automatic step above its floor (stretched: the contacts move with the network, which
   // changes slowly) is checked at a rebuild as seldom as a fixed one, and the more seldom the
   // longer it holds still (checkGap); it looks at the rebuilds between whether the new list
-  // holds a particle about to strike, which brings the floor back before it touches.
+  // holds a particle about to strike, which brings the floor back before it touches. One that
+  // its floor sets is checked as a fixed one (checkGap again).
   const bool stretched = control.automatic && aboveFloor(s, s.config.timeStep);
   const std::uint64_t gap = !control.automatic ? kStepsBetweenFixedChecks
                             : stretched        ? std::max(s.checkGap, kStepsBetweenFixedChecks)
-                                               : kStepsBetweenChecks;
+                                               : std::max(s.checkGap, kStepsBetweenChecks);
   if (since >= control.recheckSteps || (rebuilt && since >= gap)) return StepReview::Check;
-  return rebuilt && stretched ? StepReview::Scan : StepReview::None;
+  // A Hertz floor is shorter at a faster approach: one its floor sets is scanned too.
+  const bool hertz = s.config.material.normalLaw == NormalLaw::Hertz;
+  const bool scanned = control.automatic && (stretched || (hertz && s.checkGap > 0));
+  return rebuilt && scanned ? StepReview::Scan : StepReview::None;
 }
 
 void scanStep(SimulationState& s) {
