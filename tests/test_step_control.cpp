@@ -399,11 +399,11 @@ TEST_F(StillStep, ItsChecksComeFurtherApartUntilTheStepMovesAndAResumedRunKeepsT
 
 TEST(StepControl, AnAutomaticStepItsFloorSetsIsCheckedAsSeldomAsAFixedOne) {
   // The paper's material falls and settles at time_step = "auto": while the spheres strike,
-  // the floor t_c/10 sets the step (the network allows more) and the neighbour list is rebuilt
-  // every step or two, yet the checks come at least 25 steps apart, as a fixed step's: the floor
-  // holds the step still, and what could change it (contacts about to form, their approach) is
-  // counted two of the longest runs ahead. The checks change nothing else: the bed falls as a
-  // fixed run at the floor does, to the bit.
+  // the floor t_c/10 sets the step, the network allowing 1.25 × more, and the neighbour list is
+  // rebuilt every few steps, yet the checks come at least 25 steps apart, as a fixed step's:
+  // the floor holds the step still (Hooke's does not depend on the approach), and a contact
+  // that forms between two checks stiffens the network by less than the margin. The checks
+  // change nothing else: the bed falls as a fixed run at the floor does, to the bit.
   const SimulationConfig cfg = paperMaterialAtAuto();
   Simulation sim = granular::testing::fallingGrid(4, 4, 4, cfg, 0.3);
   const double floor = sim.contactScale().duration / cfg.step.contactResolution;
