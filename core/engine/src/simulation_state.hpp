@@ -302,9 +302,10 @@ struct SimulationState {
   /// shorter than this one when advanceTo lands on a time. 0: config.timeStep.
   double targetStep = 0.0;
   std::uint64_t stepsSinceCheck = 0;  ///< steps since the step was last checked
-  /// The fewest steps between two checks at rebuilds of an automatic step above its floor
-  /// (stepCheckDue): doubled at each check that leaves the step within 1 %, up to
-  /// StepControl::recheckSteps; 0: the least (25).
+  /// The fewest steps between two checks at rebuilds of an automatic step (stepCheckDue):
+  /// above its floor, doubled at each check that leaves the step within 1 %, up to
+  /// StepControl::recheckSteps (0: the least, 25); set by its floor with the network's margin,
+  /// 25; else 0 (every 10).
   std::uint64_t checkGap = 0;
   StepCheck stepCheck;                       ///< the last check
   NetworkCalibration calibration;            ///< the estimate against the bound

@@ -28,11 +28,12 @@ enum class StepReview {
   Check,  ///< checkStep
 };
 /// What the step that is running does once corrected: a check after a rebuild, at most every 10
-/// steps (a fixed step every 25: a settling bed rebuilds every few steps, and a check costs
-/// about one step), and at least every recheckSteps steps; with an automatic step above its
-/// floor (stretched: no contact an impact), at most every 25 steps and twice as far apart at
-/// each check that leaves it within 1 % (SimulationState::checkGap), up to recheckSteps, and a
-/// scan at the rebuilds between.
+/// steps where the network sets an automatic step (a fixed step every 25: a settling bed
+/// rebuilds every few steps), and at least every recheckSteps steps; with an automatic step its
+/// floor sets, the network allowing 1.25 × more, at most every 25 (SimulationState::checkGap),
+/// a Hertz one scanned at the rebuilds between; with one above its floor (stretched: no contact
+/// an impact), at most every 25 steps and twice as far apart at each check that leaves it
+/// within 1 % (checkGap), up to recheckSteps, and a scan at the rebuilds between.
 StepReview stepCheckDue(const SimulationState& s, bool rebuilt);
 /// The scan (StepReview::Scan): a check where the contacts' motion brings the floor below the
 /// step, else nothing but the count of steps since the check.
