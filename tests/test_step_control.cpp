@@ -271,6 +271,41 @@ TEST(StepControl, TheAccuracyFloorFollowsTheApproachSpeedsTheRunHas) {
               2.5e-2 * reference.overlapDuration);
 }
 
+TEST(StepControl, AHertzPairClosingFastFromAfarIsMetBelowTheDeclaredFloor) {
+  // Two Hertz spheres close at 10 m/s from 0.3 m apart in a scene that declares 0.1 m/s: with
+  // no contact the floor the declaration sets holds the step, and its checks come as seldom as
+  // a fixed step's. The scans at the rebuilds between see the pair enter the list and bring the
+  // floor down before it touches: t_c ∝ u^(-1/5), so at 10 m/s the floor is 0.4 × the declared
+  // one, and every step in contact is under half of it.
+  const double r = 0.03, speed = 10.0;
+  SimulationConfig cfg;
+  cfg.material.normalLaw = NormalLaw::Hertz;
+  cfg.gravity = Vec3::Zero();
+  cfg.integrator = Integrator::VelocityVerlet;
+  cfg.timeStep = 1e-6;  // the first step; the control chooses from the start on
+  cfg.step.automatic = true;
+  cfg.impactSpeed = 0.1;
+  cfg.threads = 1;
+  Particles p;
+  p.add(Vec3(-r - 0.15, 0, 0), r, cfg.material.density, Vec3(0.5 * speed, 0, 0));
+  p.add(Vec3(r + 0.15, 0, 0), r, cfg.material.density, Vec3(-0.5 * speed, 0, 0));
+  Simulation sim(std::move(p), {}, cfg);
+  const double declared = sim.contactScale().duration / cfg.step.contactResolution;
+  ASSERT_EQ(sim.config().timeStep, declared);
+  int inContact = 0;
+  for (int k = 0; k < 400 && inContact >= 0; ++k) {
+    sim.step();
+    const Particles& q = sim.particles();
+    if ((q.position[1] - q.position[0]).norm() >= 2.0 * r) {
+      if (inContact > 0) inContact = -1;  // separated
+      continue;
+    }
+    ++inContact;
+    EXPECT_LT(sim.config().timeStep, 0.5 * declared) << sim.time();
+  }
+  EXPECT_EQ(inContact, -1);
+}
+
 TEST(StepControl, TheAccuracyFloorIsForImpactsNotForTheNetworksSlowMotion) {
   // A frictional Hooke bed (the paper's material) settles at time_step = "auto": while spheres
   // fall onto it, the step is at most the floor for impacts (t_c/10; Gear5's binary limit
