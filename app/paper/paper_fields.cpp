@@ -81,6 +81,17 @@ std::string num(double x) {
   return csvNumber(x);
 }
 
+/// f(n) for the points n = 0 … count − 1, on OpenMP's threads, each into its own slot: the
+/// results in the points' order, the same bits on any thread count (the points are
+/// independent, a coarse-grained field or balance each).
+template <class F>
+auto atEachPoint(int count, F&& f) {
+  std::vector<decltype(f(0))> out(static_cast<std::size_t>(count));
+#pragma omp parallel for schedule(dynamic)
+  for (int n = 0; n < count; ++n) out[std::size_t(n)] = f(n);
+  return out;
+}
+
 }  // namespace
 
 std::map<std::string, double> writeStressFields(const Simulation& sim,
@@ -139,15 +150,13 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
   summary["sigma1_tilt_walls_deg"] = 0.5 * (tiltDegrees(2) + tiltDegrees(nx - 3));
 
   // ---- 3. Coarse graining and the momentum balance -----------------------------------------
-  // The fields at the points are independent: computed on the threads, each into its own
-  // slot, and gathered in the points' order, so the files are the same bytes on any count.
+  // The fields at the points on the threads, gathered in the points' order (atEachPoint): the
+  // files are the same bytes on any count.
   const CoarseGrainer cg(sim, kWidth);
   std::vector<double> cgPlane(std::size_t(nx) * nz), cgDensity(std::size_t(nx) * nz);
   std::vector<double> cgTensor, repTensor;
-  std::vector<CoarseGrainedFields> planeFields(std::size_t(nx) * nz);
-#pragma omp parallel for schedule(dynamic)
-  for (int n = 0; n < nx * nz; ++n)
-    planeFields[std::size_t(n)] = cg.at(plane.point(n % nx, n / nx));
+  const std::vector<CoarseGrainedFields> planeFields =
+      atEachPoint(nx * nz, [&](int n) { return cg.at(plane.point(n % nx, n / nx)); });
   for (int k = 0; k < nz; ++k) {
     for (int i = 0; i < nx; ++i) {
       const CoarseGrainedFields& f = planeFields[std::size_t(k) * nx + i];
@@ -173,19 +182,16 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
     double residual = 0, closure = 0, motion = 0;  ///< each over ρ|g|
   };
   constexpr int kBalanceX = 11, kBalanceZ = 19;
-  std::vector<Balance> balance(std::size_t(kBalanceX) * kBalanceZ);
-#pragma omp parallel for schedule(dynamic)
-  for (int n = 0; n < kBalanceX * kBalanceZ; ++n) {
+  const std::vector<Balance> balance = atEachPoint(kBalanceX * kBalanceZ, [&](int n) {
     const int i = n % kBalanceX, k = n / kBalanceX;
     const Vec3 r(box.lo.x() + 0.01 + i * (L - 0.02) / 10.0, yMid,
                  box.lo.z() + 0.01 + k * (H - 0.01 - kWidth) / 18.0);
     const double rho = cg.at(r).density;
-    if (rho < 0.5 * bulk) continue;
+    if (rho < 0.5 * bulk) return Balance{};
     const double scale = rho * cg.gravity().norm();
-    balance[std::size_t(n)] = {true, cg.balanceResidual(r, h).norm() / scale,
-                               cg.closureError(r, h).norm() / scale,
-                               cg.unbalancedForce(r).norm() / scale};
-  }
+    return Balance{true, cg.balanceResidual(r, h).norm() / scale,
+                   cg.closureError(r, h).norm() / scale, cg.unbalancedForce(r).norm() / scale};
+  });
   for (const Balance& b : balance) {
     if (!b.counted) continue;
     worst = std::max(worst, b.residual);
@@ -209,14 +215,11 @@ std::map<std::string, double> writeStressFields(const Simulation& sim,
   const WallBins wallStress = sideWallStress(sim, box, 12);
   // The cross-section mean of σ33 at a height, from the coarse-grained field.
   auto sectionMean = [&](double z) {
-    std::array<double, 81> at{};
-#pragma omp parallel for schedule(dynamic)
-    for (int n = 0; n < 81; ++n) {
+    const std::vector<double> at = atEachPoint(81, [&](int n) {
       const int i = n % 9, j = n / 9;
-      at[std::size_t(n)] =
-          cg.at(Vec3(box.lo.x() + (i + 0.5) * L / 9, box.lo.y() + (j + 0.5) * L / 9, z))
-              .stress()(2, 2);
-    }
+      return cg.at(Vec3(box.lo.x() + (i + 0.5) * L / 9, box.lo.y() + (j + 0.5) * L / 9, z))
+          .stress()(2, 2);
+    });
     double sum = 0;
     for (double value : at) sum += value;  // in the points' order
     return sum / 81.0;
