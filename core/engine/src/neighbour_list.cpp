@@ -327,6 +327,37 @@ void listMeshCandidates(const WallMesh& mesh, const TriangleGrid& grid, const Pa
   }
 }
 
+/// The analytic walls' candidates (those not removed): the particles whose surface is within
+/// `margin` of the wall's surface (or beyond a plane), ascending. Each thread searches a run of
+/// consecutive particles for every wall, and the runs are joined in order.
+void listAnalyticCandidates(const std::vector<Wall>& walls, const Particles& p, double margin,
+                            int teams, std::vector<std::vector<std::uint32_t>>& wallParticles) {
+  const std::size_t n = p.size();
+  std::vector<std::vector<std::vector<std::uint32_t>>> parts(std::size_t(std::max(teams, 1)));
+#pragma omp parallel num_threads(teams)
+  {
+    const std::size_t t = std::size_t(omp_get_thread_num());
+    const std::size_t used = std::size_t(omp_get_num_threads());
+    std::vector<std::vector<std::uint32_t>>& part = parts[t];
+    part.resize(walls.size());
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      const Wall& wall = walls[w];
+      if (wall.removed || wall.shape == WallShape::Mesh) continue;
+      for (std::size_t i = n * t / used; i < n * (t + 1) / used; ++i) {
+        const double distance = wall.shell() ? touchOf(wall, p.position[i]).distance
+                                             : (p.position[i] - wall.point).dot(wall.normal);
+        if (distance < p.radius[i] + margin) part[w].push_back(static_cast<std::uint32_t>(i));
+      }
+    }
+  }
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    for (const std::vector<std::vector<std::uint32_t>>& part : parts) {
+      if (w < part.size())
+        wallParticles[w].insert(wallParticles[w].end(), part[w].begin(), part[w].end());
+    }
+  }
+}
+
 }  // namespace
 
 void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::vector<Wall>& walls,
@@ -372,14 +403,8 @@ void rebuildNeighbourList(NeighbourList& list, const Particles& p, const std::ve
     }
     list.meshGrid[w] = TriangleGrid{};
     list.meshGridPose[w] = nullptr;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double distance = walls[w].shell()
-                                  ? touchOf(walls[w], p.position[i]).distance
-                                  : (p.position[i] - walls[w].point).dot(walls[w].normal);
-      if (distance < p.radius[i] + margin)
-        wallParticles[w].push_back(static_cast<std::uint32_t>(i));
-    }
   }
+  listAnalyticCandidates(walls, p, margin, teams, wallParticles);
 
   std::vector<std::uint32_t> blockParticle, blockPair, blockWord;
   pairBlocks(rowStart, n, blockParticle, blockPair, blockWord);

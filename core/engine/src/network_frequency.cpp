@@ -9,17 +9,14 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
-#include <utility>
 #include <vector>
 
 #include "contact_linearisation.hpp"
 #include "domain_split.hpp"
-#include "force_pass.hpp"
-#include "granular/exact_sum.hpp"
 #include "network_bound.hpp"
-#include "pair_motion.hpp"
+#include "network_contacts.hpp"
+#include "network_motion.hpp"
 #include "simulation_state.hpp"
-#include "wall_contact.hpp"
 
 namespace granular {
 
@@ -86,15 +83,39 @@ struct GainMatrices {
   }
 };
 
+/// The links of the gain matrices by row: each row's off-diagonal entries in the links' order,
+/// so that a row's product B x, summed along it, adds the same terms in the same order as a
+/// walk over the links that adds each to both its rows: the same bits, each row alone (on any
+/// thread).
+struct GainRows {
+  struct Entry {
+    std::uint32_t other;
+    std::array<double, 2> weight;
+  };
+  std::vector<std::uint32_t> start;
+  std::vector<Entry> entries;
+
+  GainRows(const GainMatrices& m, std::size_t n) : start(n + 1, 0), entries(2 * m.links.size()) {
+    for (const GainMatrices::Link& l : m.links) ++start[l.i + 1], ++start[l.j + 1];
+    for (std::size_t r = 0; r < n; ++r) start[r + 1] += start[r];
+    std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+    for (const GainMatrices::Link& l : m.links) {
+      entries[next[l.i]++] = {l.j, l.weight};
+      entries[next[l.j]++] = {l.i, l.weight};
+    }
+  }
+};
+
 /// The Collatz–Wielandt bounds of the two gain matrices, tightened one power sweep at a time,
-/// both in one walk over the links. In a run split by space (domain_split.hpp) each rank
-/// measures the rows of its own particles, whose links it holds whole and in one process's
-/// order, and its ghosts take their owners' x after each sweep: the bounds and their rows are
-/// the same bits as one process's.
+/// both in one pass over the rows, on `threads` threads (each row alone: the same bits on any
+/// count). In a run split by space (domain_split.hpp) each rank measures the rows of its own
+/// particles, whose links it holds whole and in one process's order, and its ghosts take their
+/// owners' x after each sweep: the bounds and their rows are the same bits as one process's.
 class PowerBounds {
  public:
   /// The bounds of sweep 0 (Gershgorin's).
-  PowerBounds(const GainMatrices& m, const SimulationState& s) : m_(m), s_(s) {
+  PowerBounds(const GainMatrices& m, const SimulationState& s, int threads)
+      : m_(m), rows_(m, m.diagonal[0].size()), s_(s), threads_(threads) {
     for (Bound& b : bounds_) {
       b.x.assign(m.diagonal[0].size(), 1.0);
       b.y.assign(m.diagonal[0].size(), 0.0);
@@ -134,27 +155,17 @@ class PowerBounds {
   bool mine(std::size_t i) const { return s_.owned.empty() || s_.owned[i]; }
   /// y = B x for the matrices `which`, then their bounds.
   void measure(std::array<bool, 2> which) {
-    for (std::size_t k = 0; k < 2; ++k) {
-      if (!which[k]) continue;
-      Bound& b = bounds_[k];
-      for (std::size_t i = 0; i < b.x.size(); ++i) b.y[i] = m_.diagonal[k][i] * b.x[i];
-    }
-    if (which[0] && which[1]) {
-      Bound &a = bounds_[0], &c = bounds_[1];
-      for (const GainMatrices::Link& l : m_.links) {
-        a.y[l.i] += l.weight[0] * a.x[l.j];
-        a.y[l.j] += l.weight[0] * a.x[l.i];
-        c.y[l.i] += l.weight[1] * c.x[l.j];
-        c.y[l.j] += l.weight[1] * c.x[l.i];
-      }
-    } else {
+    const long n = static_cast<long>(m_.diagonal[0].size());
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (long r = 0; r < n; ++r) {
       for (std::size_t k = 0; k < 2; ++k) {
         if (!which[k]) continue;
         Bound& b = bounds_[k];
-        for (const GainMatrices::Link& l : m_.links) {
-          b.y[l.i] += l.weight[k] * b.x[l.j];
-          b.y[l.j] += l.weight[k] * b.x[l.i];
+        double y = m_.diagonal[k][r] * b.x[r];
+        for (std::uint32_t e = rows_.start[r]; e < rows_.start[r + 1]; ++e) {
+          y += rows_.entries[e].weight[k] * b.x[rows_.entries[e].other];
         }
+        b.y[r] = y;
       }
     }
     for (std::size_t k = 0; k < 2; ++k) {
@@ -184,340 +195,155 @@ class PowerBounds {
   }
 
   const GainMatrices& m_;
+  const GainRows rows_;
   const SimulationState& s_;
+  const int threads_;
   std::array<Bound, 2> bounds_;
 };
 
-/// Whether the neighbour list is built for the particles there are (a rank's list before its
-/// first build is not).
-bool isListed(const SimulationState& s) {
-  return s.neighbours.valid && s.neighbours.rowStart.size() == s.particles.size() + 1;
-}
+/// One contact's share of the bound, computed alone (on any thread): its bodies (j = i for a
+/// wall), its gains on each body's springs and dashpots (contactGain), and its least damping
+/// ratio as the terms give it (LinearContact::leastRatio, `damped`), which a contact with no
+/// normal spring yet (Hertz at touch) completes from the contacts before it (BoundSums).
+struct ContactShare {
+  std::uint32_t i = 0, j = 0;
+  double ki = 0, kj = 0, ci = 0, cj = 0;
+  double leastRatio = 0;
+  bool damped = false, springless = false;
+};
 
-/// Whether the touching pairs come from the listed pairs' geometry alone: listed, and no mesh
-/// wall (walkNetworkContacts).
-bool pairsFromGeometry(const SimulationState& s) {
-  return isListed(s) && std::none_of(s.walls.begin(), s.walls.end(), [](const Wall& w) {
-           return w.shape == WallShape::Mesh && !w.removed;
-         });
-}
-
-/// visitNetworkContacts with the visitor's type known, so that it is called inline (at every
-/// check and scan, once a contact).
-/// Without kPairs the pairs are left out (the walls' contacts alone): the caller counts them
-/// itself (networkMotion's chunks).
-template <bool kPairs = true, class Visit>
-void walkNetworkContacts(const SimulationState& s, double lookahead, Visit&& visit) {
-  const Particles& p = s.particles;
-  const Material& material = s.config.material;
-  const bool hertz = material.normalLaw == NormalLaw::Hertz;
-  const double kappa = material.normalCoefficient();
-  // The overlap an impact at closing speed u adds under Hertz's law (Hooke's k_n does not
-  // depend on it): ½ m u² = (2/5) κ √R h^(5/2).
-  auto impactOverlap = [&](double mass, double reduced, double u) {
-    if (!hertz || !(u > 0.0)) return 0.0;
-    return std::pow(5.0 * mass * u * u / (4.0 * kappa * std::sqrt(reduced)), 0.4);
-  };
-  auto pairOf = [&](std::size_t i, std::size_t j, const Vec3& normal, double u, double h,
-                    bool touching, double relative) {
-    const double reduced = p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-    const double mass = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-    return NetworkContact{i, j,        normal,  reduced, mass, h + impactOverlap(mass, reduced, u),
-                          u, touching, relative};
-  };
-  auto wallOf = [&](std::size_t i, const Vec3& normal, double u, double h, bool touching,
-                    double relative) {
-    return NetworkContact{i,           i,         normal,
-                          p.radius[i], p.mass[i], h + impactOverlap(p.mass[i], p.radius[i], u),
-                          u,           touching,  relative};
-  };
-
-  const NeighbourList& list = s.neighbours;
-  const bool listed = isListed(s);
-  const bool ahead = lookahead > 0.0 && listed;
-  // From the geometry alone where no mesh wall is: spheres and analytic walls touch where their
-  // surfaces overlap, and the forces, which a measuring pass would evaluate (serially) besides,
-  // are not needed. A mesh's sphere may touch several of its triangles: the measuring pass finds
-  // them as the force pass does, and the pairs' walk then looks for candidates only.
-  const bool geometric = pairsFromGeometry(s);
-
-  // One walk over the list's pairs: touching pairs (from each pair's first side) at
-  // their overlap (plus an impact's), and candidates about to touch, which close their gap
-  // within the lookahead at their present closing speed (the neighbour list holds every pair
-  // that can touch before it is rebuilt). A pair apart and separating is neither, and is passed
-  // over before its distance's square root (the margin keeps the comparison of squares on the
-  // safe side of the rounding).
-  std::vector<NetworkContact> candidates;  // visited after the touching contacts
-  if (kPairs && listed && (geometric || ahead)) {
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-        const std::size_t j = list.second[k];
-        const Vec3 d = p.position[j] - p.position[i];
-        const Vec3 v = p.velocity[i] - p.velocity[j];
-        const double reach = p.radius[i] + p.radius[j], distance2 = d.squaredNorm();
-        if (distance2 > reach * reach * (1.0 + 1e-12) && !(ahead && v.dot(d) > 0.0)) continue;
-        const double distance = std::sqrt(distance2);
-        const double h = reach - distance;
-        if (geometric && h > 0.0) {
-          const Vec3 normal = d / distance;
-          visit(pairOf(i, j, normal, v.dot(normal), h, true, v.norm()));
-        }
-        if (!ahead) continue;
-        const double gap = distance - p.radius[i] - p.radius[j];
-        if (!(gap > 0.0)) continue;
-        const double u = v.dot(d) / distance;
-        if (!(u > 0.0) || gap > u * lookahead) continue;
-        candidates.push_back(pairOf(i, j, d / distance, u, 0.0, false, v.norm()));
-      }
-    }
-  }
-
-  if (geometric) {
-    for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
-      const Wall& wall = s.walls[w];
-      if (wall.removed) continue;
-      for (const std::uint32_t i : list.wallParticles[w]) {
-        if (i >= p.size()) continue;
-        const WallTouch touch = touchOf(wall, p.position[i]);
-        const double h = p.radius[i] - touch.distance;
-        if (!(h > 0.0)) continue;
-        const Vec3 normal = -touch.normal;  // out of i into the wall
-        const Vec3 point = p.position[i] + (p.radius[i] - 0.5 * h) * normal;  // midway
-        const Vec3 v = p.velocity[i] - wall.velocityAt(point);
-        visit(wallOf(i, normal, v.dot(normal), h, true, v.norm()));
-      }
-    }
-  } else {
-    visitContacts(
-        s,
-        [&](const ContactView& c) {
-          // A pull across a gap (a term that reaches beyond touch) has no spring: the pair is
-          // a candidate below, about to touch if it approaches.
-          if (c.overlap < 0.0) return;
-          const std::size_t i = c.particle;
-          if (c.isWall()) {
-            const Vec3 v = p.velocity[i] - s.walls[c.wall()].velocityAt(c.point);
-            visit(wallOf(i, c.normal, v.dot(c.normal), c.overlap, true, v.norm()));
-          } else {
-            const std::size_t j = c.otherParticle();
-            if (j < i) return;
-            const Vec3 v = p.velocity[i] - p.velocity[j];
-            visit(pairOf(i, j, c.normal, v.dot(c.normal), c.overlap, true, v.norm()));
-          }
-        },
-        nullptr);
-  }
-
-  // Candidates, pairs before walls.
-  if (!ahead) return;
-  for (const NetworkContact& c : candidates) visit(c);
-  for (std::size_t w = 0; w < list.wallParticles.size() && w < s.walls.size(); ++w) {
-    const Wall& wall = s.walls[w];
-    const bool mesh = wall.shape == WallShape::Mesh;
-    const bool binned = mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty();
-    for (std::size_t k = 0; k < list.wallParticles[w].size(); ++k) {
-      const std::uint32_t i = list.wallParticles[w][k];
-      if (i >= p.size() || (mesh && k % kMeshContacts != 0)) continue;  // a mesh's first entry
-      WallTouch touch;
-      if (binned) {
-        const MeshNearest nearest =
-            nearestOnMesh(wall.mesh->world, wall.mesh->topology, list.meshGrid[w], p.position[i]);
-        touch = {nearest.distance, nearest.normal};
-      } else {
-        touch = touchOf(wall, p.position[i]);
-      }
-      const double gap = touch.distance - p.radius[i];
-      if (!(gap > 0.0)) continue;
-      const Vec3 closest = p.position[i] - touch.distance * touch.normal;
-      const Vec3 v = p.velocity[i] - wall.velocityAt(closest);
-      const double u = -v.dot(touch.normal);
-      if (!(u > 0.0) || gap > u * lookahead) continue;
-      visit(wallOf(i, -touch.normal, u, 0.0, false, v.norm()));
-    }
-  }
-}
-
-}  // namespace
-
-void visitNetworkContacts(const SimulationState& s, double lookahead,
-                          const std::function<void(const NetworkContact&)>& visit) {
-  walkNetworkContacts(s, lookahead, visit);
-}
-
-LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
-                                const ContactConstants& constants, unsigned optional) {
-  const Particles& p = s.particles;
-  const bool wall = n.j == n.i;
-  LinearContact linear;
-  linear.radius = n.reduced;
-  linear.mass = n.mass;
-  linear.overlap = std::max(n.overlap, 0.0);
-  const double ii = 1.4 * p.mass[n.i] * p.radius[n.i] * p.radius[n.i];  // I + m R²
-  const double ij = wall ? 0.0 : 1.4 * p.mass[n.j] * p.radius[n.j] * p.radius[n.j];
-  linear.rollingInertia = wall ? ii : 1.0 / (1.0 / ii + 1.0 / ij);
-  lineariseContact(constants, s.frictional, optional, linear);
-  return linear;
-}
-
-namespace {
-
-/// What the contacts' motion tells the step control, summed as they are visited: the counts, the
-/// fastest approach and the kinetic energy of the relative motion (NetworkFrequency's fields).
-/// A split run counts a contact on the rank that owns its first particle.
-class MotionTally {
+/// Computes contact shares (ContactShare).
+class ShareOf {
  public:
-  explicit MotionTally(const SimulationState& s) : s_(s) {}
-  void add(const NetworkContact& n) {
-    out_.fastestApproach = std::max(out_.fastestApproach, n.approach);
-    if (!(s_.owned.empty() || s_.owned[n.i])) return;
-    (n.touching ? out_.contacts : out_.approaching) += 1;
-    relativeKinetic_.add(0.5 * n.mass * n.relativeSpeed * n.relativeSpeed);
-  }
-  /// Pairs [0, m) of `c` (pairMotions), as add would count each touching and each approaching
-  /// one.
-  void addPairs(PairMotionChunk& c, std::size_t m, double lookahead) {
-    const PairMotionCounts counts = pairMotions(c, m, lookahead);
-    out_.contacts += static_cast<std::size_t>(counts.touching);
-    out_.approaching += static_cast<std::size_t>(counts.approaching);
-    out_.fastestApproach = std::max(out_.fastestApproach, counts.fastest);
-    relativeKinetic_.addAll(c.energy, m);
-  }
-  /// Adds what `other` counted (exactly: any split of the contacts gives the same bits).
-  void merge(const MotionTally& other) {
-    out_.contacts += other.out_.contacts;
-    out_.approaching += other.out_.approaching;
-    out_.fastestApproach = std::max(out_.fastestApproach, other.out_.fastestApproach);
-    relativeKinetic_.merge(other.relativeKinetic_);
-  }
-  /// The tally into `out` (collective in a split run: sums and the largest over the ranks).
-  void fill(NetworkFrequency& out) {
-    if (s_.split.domains) {
-      std::vector<std::uint64_t> counts{out_.contacts, out_.approaching};
-      s_.ranks->sumOverRanks(counts);
-      out_.contacts = counts[0];
-      out_.approaching = counts[1];
-      out_.fastestApproach = s_.ranks->maxOverRanks(out_.fastestApproach);
-      std::vector<ExactSum> sums{relativeKinetic_};
-      s_.ranks->mergeOverRanks(sums);
-      relativeKinetic_ = sums[0];
+  explicit ShareOf(const SimulationState& s)
+      : s_(s),
+        constants_(s.config.material, s.config.timeStep),
+        optional_(optionalMask(s.config.material)) {}
+  ContactShare operator()(const NetworkContact& n) const {
+    const Particles& p = s_.particles;
+    const std::size_t i = n.i, j = n.j;
+    const double h = n.overlap;
+    const bool rotations = s_.frictional;
+    const LinearContact linear = linearisedContact(s_, n, constants_, optional_);
+    ContactShare share;
+    share.i = static_cast<std::uint32_t>(i);
+    share.j = static_cast<std::uint32_t>(j);
+    share.leastRatio = linear.leastRatio;
+    share.damped = linear.damped;
+    share.springless = !(linear.stiffness.normal > 0.0);
+    const ContactModes &k = linear.stiffness, &c = linear.damping;
+    const ContactBody bi{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
+    share.ki = contactGain(k, bi, rotations);
+    share.ci = contactGain(c, bi, rotations);
+    if (j != i) {
+      const ContactBody bj{p.mass[j], p.inertia(j), p.radius[j] - 0.5 * h};
+      share.kj = contactGain(k, bj, rotations);
+      share.cj = contactGain(c, bj, rotations);
     }
-    out.contacts = out_.contacts;
-    out.approaching = out_.approaching;
-    out.fastestApproach = out_.fastestApproach;
-    out.relativeKinetic = relativeKinetic_.value();
+    return share;
   }
 
  private:
   const SimulationState& s_;
-  NetworkFrequency out_;
-  ExactSum relativeKinetic_;  // exact: the same bits on any rank count
+  const ContactConstants constants_;
+  const unsigned optional_;
 };
 
-/// The listed pairs into `tally`, a chunk at a time (pair_motion.hpp): the same contacts,
-/// speeds and energies as walkNetworkContacts's pairs, at a fraction of the cost. On the pass's
-/// threads, each its run of rows into a tally of its own, merged after: counts, the largest speed
-/// and an exact sum, the same bits on any thread count.
-void tallyListedPairs(const SimulationState& s, double lookahead, MotionTally& tally) {
-  const Particles& p = s.particles;
-  const NeighbourList& list = s.neighbours;
-  const std::size_t n = p.size();
-  // Below this many pairs (a scan of some 60 µs on one thread) the threads are not started:
-  // their start and the merge would be a large share of what they save.
-  constexpr std::size_t kPairsForThreads = 4096;
-  const int threads = passThreads(s) > 0 ? passThreads(s) : omp_get_max_threads();
-  const int teams = list.second.size() < kPairsForThreads ? 1 : std::max(threads, 1);
-  std::vector<MotionTally> parts(static_cast<std::size_t>(teams), MotionTally(s));
-#pragma omp parallel num_threads(teams)
-  {
-    const std::size_t t = std::size_t(omp_get_thread_num());
-    const std::size_t used = std::size_t(omp_get_num_threads());
-    MotionTally& part = parts[t];
-    PairMotionChunk chunk;
-    std::size_t m = 0;
-    for (std::size_t i = n * t / used; i < n * (t + 1) / used; ++i) {
-      const Vec3 xi = p.position[i], vi = p.velocity[i];
-      const double ri = p.radius[i], mi = p.mass[i];
-      const double mine = s.owned.empty() || s.owned[i] ? 1.0 : 0.0;
-      for (std::uint32_t k = list.rowStart[i]; k < list.rowStart[i + 1]; ++k) {
-        const std::size_t j = list.second[k];
-        const Vec3 d = p.position[j] - xi, v = vi - p.velocity[j];
-        chunk.dx[m] = d.x(), chunk.dy[m] = d.y(), chunk.dz[m] = d.z();
-        chunk.vx[m] = v.x(), chunk.vy[m] = v.y(), chunk.vz[m] = v.z();
-        chunk.ri[m] = ri, chunk.rj[m] = p.radius[j];
-        chunk.mi[m] = mi, chunk.mj[m] = p.mass[j];
-        chunk.owned[m] = mine;
-        if (++m == PairMotionChunk::kSize) part.addPairs(chunk, std::exchange(m, 0), lookahead);
-      }
+/// The shares into the gain matrices and the least damping ratio, one at a time in the walk's
+/// order (the diagonal's sums and the links' order are those of the walk).
+class BoundSums {
+ public:
+  explicit BoundSums(std::size_t n) : gains(n) {}
+  void add(const ContactShare& c) {
+    double least = c.leastRatio;
+    // With no normal spring the least so far stands in for the normal ratio (as
+    // LinearContact::leastDampingRatio would keep it).
+    if (c.springless) {
+      const double r = smallestDampingRatio;
+      least = c.damped ? (r < c.leastRatio ? r : c.leastRatio) : r;
     }
-    if (m > 0) part.addPairs(chunk, m, lookahead);
+    smallestDampingRatio = added ? std::min(smallestDampingRatio, least) : least;
+    added = true;
+    if (c.j == c.i) {
+      gains.wall(c.i, c.ki, c.ci);
+    } else {
+      gains.pair(c.i, c.j, c.ki, c.kj, c.ci, c.cj);
+    }
   }
-  for (const MotionTally& part : parts) tally.merge(part);
-}
+  GainMatrices gains;
+  double smallestDampingRatio = NetworkFrequency{}.smallestDampingRatio;
+  bool added = false;  ///< a contact added
+};
 
 }  // namespace
-
-NetworkFrequency networkMotion(const SimulationState& s, double lookahead) {
-  MotionTally tally(s);
-  if (pairsFromGeometry(s)) {
-    tallyListedPairs(s, lookahead, tally);  // pairMotions: no approach at lookahead <= 0
-    walkNetworkContacts<false>(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
-  } else {
-    walkNetworkContacts(s, lookahead, [&](const NetworkContact& n) { tally.add(n); });
-  }
-  NetworkFrequency out;
-  tally.fill(out);
-  return out;
-}
 
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough) {
   const Particles& p = s.particles;
-  const Material& material = s.config.material;
-  const bool rotations = s.frictional;
-  const ContactConstants constants(material, s.config.timeStep);
-  const unsigned optional = optionalMask(material);
-  GainMatrices gains(p.size());
-  gains.links.reserve(s.neighbours.second.size());
-  NetworkFrequency out;
-
-  auto body = [&](std::size_t i, double h) {
-    return ContactBody{p.mass[i], p.inertia(i), p.radius[i] - 0.5 * h};
+  const NetworkWalk walk(s, lookahead);
+  const ShareOf shareOf(s);
+  const int teams = networkThreads(s, s.neighbours.second.size());
+  // The walk's order, its rows on the threads: each part's touching and approaching pairs,
+  // linearised as they are found, into buffers of its own, then added in the parts' order
+  // (the walls, few, on one thread between them). A split run counts a contact on the rank of
+  // its first particle.
+  struct Part {
+    std::vector<ContactShare> touching, approaching;
+    MotionTally tally;
   };
-  bool added = false;    // a contact added here
-  MotionTally tally(s);  // a split run counts a contact on the rank of its first particle
-  // One contact between i and j (j = i: a wall), at overlap h: the terms' springs and dashpots
-  // on its modes (contact_linearisation.hpp), and their gains on each body.
-  walkNetworkContacts(s, lookahead, [&](const NetworkContact& n) {
-    const std::size_t i = n.i, j = n.j;
-    const double h = n.overlap;
-    tally.add(n);
-    LinearContact linear = linearisedContact(s, n, constants, optional);
-    // A contact with no normal spring yet (Hertz at touch) has no normal ratio: the least so
-    // far stands in for it.
-    if (!(linear.stiffness.normal > 0.0)) linear.leastDampingRatio(out.smallestDampingRatio);
-    const double smallest = linear.leastRatio;
-    out.smallestDampingRatio = added ? std::min(out.smallestDampingRatio, smallest) : smallest;
-    added = true;
-    const ContactModes &k = linear.stiffness, &c = linear.damping;
-    const ContactBody bi = body(i, h);
-    if (j == i) {
-      gains.wall(i, contactGain(k, bi, rotations), contactGain(c, bi, rotations));
-      return;
+  std::vector<Part> parts(static_cast<std::size_t>(teams), Part{{}, {}, MotionTally(s)});
+  if (walk.walksPairs()) {
+#pragma omp parallel num_threads(teams)
+    {
+      const std::size_t t = std::size_t(omp_get_thread_num());
+      const std::size_t used = std::size_t(omp_get_num_threads());
+      Part& part = parts[t];
+      walk.pairs(
+          p.size() * t / used, p.size() * (t + 1) / used,
+          [&](const NetworkContact& n) {
+            part.tally.add(n);
+            part.touching.push_back(shareOf(n));
+          },
+          [&](const NetworkContact& n) {
+            part.tally.add(n);
+            part.approaching.push_back(shareOf(n));
+          });
     }
-    const ContactBody bj = body(j, h);
-    gains.pair(i, j, contactGain(k, bi, rotations), contactGain(k, bj, rotations),
-               contactGain(c, bi, rotations), contactGain(c, bj, rotations));
-  });
+  }
+  BoundSums sums(p.size());
+  sums.gains.links.reserve(s.neighbours.second.size());
+  MotionTally tally(s);
+  auto one = [&](const NetworkContact& n) {
+    tally.add(n);
+    sums.add(shareOf(n));
+  };
+  for (const Part& part : parts) {
+    for (const ContactShare& c : part.touching) sums.add(c);
+  }
+  if (walk.geometric()) {
+    walk.touchingWalls(one);
+  } else {
+    walk.touchingFromPass(one);
+  }
+  if (walk.ahead()) {
+    for (const Part& part : parts) {
+      for (const ContactShare& c : part.approaching) sums.add(c);
+    }
+    walk.wallCandidates(one);
+  }
+  for (const Part& part : parts) tally.merge(part.tally);
 
+  NetworkFrequency out;
   tally.fill(out);
+  out.smallestDampingRatio = sums.smallestDampingRatio;
   if (s.split.domains) {
     // The least ratio over the ranks (each contact is on one rank or on two alike).
-    const double least = -s.ranks->maxOverRanks(added ? -out.smallestDampingRatio
-                                                      : -std::numeric_limits<double>::infinity());
+    const double least = -s.ranks->maxOverRanks(
+        sums.added ? -out.smallestDampingRatio : -std::numeric_limits<double>::infinity());
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
   }
-  PowerBounds bounds(gains, s);
+  PowerBounds bounds(sums.gains, s, networkThreads(s, sums.gains.links.size()));
   auto fill = [&] {
     out.omegaMax = std::sqrt(bounds.value(GainMatrices::kStiffness));
     out.particle = bounds.row(GainMatrices::kStiffness);
