@@ -195,12 +195,17 @@ TEST(NetworkFrequency, VerletAtTheNetworksStepIsStableOnTheDampedNetwork) {
 }
 
 TEST(NetworkFrequency, TheBoundIsTheSameBitsOnAnyThreadCount) {
-  // 10 × 10 × 8 frictional spheres of radii 30-35 mm on a lattice of 64 mm in a box: about
-  // two thirds of the lattice's neighbours overlap (rows of up to six contacts, whose sums
-  // depend on their order: summed in another order, the bound differs in its last bits), the
-  // others close their gaps at up to 2 m/s.
+  // 16 × 16 × 8 frictional Hertz spheres of radii 30-35 mm on a lattice of 64 mm in a box:
+  // about two thirds of the lattice's neighbours overlap (rows of up to six contacts of
+  // different stiffness, whose sums depend on their order: summed in another order, the bound
+  // differs in its last bits), the others close their gaps at up to 2 m/s. Enough pairs that
+  // the bound's walk and sweeps run on the threads they are given (networkThreads): each part's
+  // rows into buffers of its own, added in the walk's order. The first particle of each part
+  // (of 2, 3 or 4) is lighter and larger: its row, which sums contacts from two parts, sets
+  // the bound of the first sweeps (a part's contacts added out of order fail there).
   Material material;
   material.friction = 0.3;
+  material.normalLaw = NormalLaw::Hertz;
   SimulationConfig cfg;
   cfg.material = material;
   cfg.integrator = Integrator::VelocityVerlet;
@@ -213,15 +218,19 @@ TEST(NetworkFrequency, TheBoundIsTheSameBitsOnAnyThreadCount) {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
     return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
   };
-  const double spacing = 0.064, side = 10 * spacing;
+  auto firstOfPart = [](std::size_t i) {  // n t / parts for 2048 spheres
+    return i == 512 || i == 682 || i == 1024 || i == 1365 || i == 1536;
+  };
+  const double spacing = 0.064, side = 16 * spacing;
   Particles p;
   for (int k = 0; k < 8; ++k) {
-    for (int j = 0; j < 10; ++j) {
-      for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 16; ++j) {
+      for (int i = 0; i < 16; ++i) {
         const double vx = uniform() - 0.5, vy = uniform() - 0.5, vz = uniform() - 0.5;
-        const double radius = 0.03 + 0.005 * uniform();
-        p.add(spacing * Vec3(i + 0.5, j + 0.5, k + 0.5), radius, material.density,
-              4.0 * Vec3(vx, vy, vz));
+        const bool first = firstOfPart(p.size());
+        const double radius = first ? 0.036 : 0.03 + 0.005 * uniform();
+        p.add(spacing * Vec3(i + 0.5, j + 0.5, k + 0.5), radius,
+              first ? 0.25 * material.density : material.density, 4.0 * Vec3(vx, vy, vz));
       }
     }
   }
@@ -232,21 +241,27 @@ TEST(NetworkFrequency, TheBoundIsTheSameBitsOnAnyThreadCount) {
   };
   Simulation sim(std::move(p), std::move(walls), cfg);
   const double lookahead = 0.01;  // [s]
-  sim.setThreads(1);
-  const NetworkFrequency one = networkFrequencyBound(sim, 32, lookahead);
-  ASSERT_GT(one.contacts, 1000u);
-  ASSERT_GT(one.approaching, 100u);
-  for (int threads : {2, 3, 4}) {
-    sim.setThreads(threads);
-    const NetworkFrequency f = networkFrequencyBound(sim, 32, lookahead);
-    EXPECT_EQ(f.omegaMax, one.omegaMax) << threads << " threads";
-    EXPECT_EQ(f.dampingRate, one.dampingRate) << threads << " threads";
-    EXPECT_EQ(f.particle, one.particle) << threads << " threads";
-    EXPECT_EQ(f.contacts, one.contacts) << threads << " threads";
-    EXPECT_EQ(f.approaching, one.approaching) << threads << " threads";
-    EXPECT_EQ(f.smallestDampingRatio, one.smallestDampingRatio) << threads << " threads";
-    EXPECT_EQ(f.fastestApproach, one.fastestApproach) << threads << " threads";
-    EXPECT_EQ(f.relativeKinetic, one.relativeKinetic) << threads << " threads";
+  for (int sweeps : {0, 1, 2, 3, 32}) {
+    sim.setThreads(1);
+    const NetworkFrequency one = networkFrequencyBound(sim, sweeps, lookahead);
+    ASSERT_GT(one.contacts, 4096u);
+    ASSERT_GT(one.approaching, 100u);
+    if (sweeps <= 3) {
+      EXPECT_TRUE(firstOfPart(one.particle)) << one.particle;
+    }
+    for (int threads : {2, 3, 4}) {
+      SCOPED_TRACE(::testing::Message() << sweeps << " sweeps");
+      sim.setThreads(threads);
+      const NetworkFrequency f = networkFrequencyBound(sim, sweeps, lookahead);
+      EXPECT_EQ(f.omegaMax, one.omegaMax) << threads << " threads";
+      EXPECT_EQ(f.dampingRate, one.dampingRate) << threads << " threads";
+      EXPECT_EQ(f.particle, one.particle) << threads << " threads";
+      EXPECT_EQ(f.contacts, one.contacts) << threads << " threads";
+      EXPECT_EQ(f.approaching, one.approaching) << threads << " threads";
+      EXPECT_EQ(f.smallestDampingRatio, one.smallestDampingRatio) << threads << " threads";
+      EXPECT_EQ(f.fastestApproach, one.fastestApproach) << threads << " threads";
+      EXPECT_EQ(f.relativeKinetic, one.relativeKinetic) << threads << " threads";
+    }
   }
 }
 
