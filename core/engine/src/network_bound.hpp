@@ -1,6 +1,7 @@
 #pragma once
-/// The network's frequency bound on the engine's state (network_frequency.cpp), for the step
-/// control inside the step (simulation.cpp).
+/// The network's frequency bound on the engine's state (network_frequency.cpp; its contacts,
+/// network_contacts.cpp; their motion, network_motion.cpp), for the step control inside the
+/// step (simulation.cpp).
 #include <cstddef>
 #include <functional>
 
@@ -27,11 +28,10 @@ struct NetworkContact {
 };
 /// Calls `visit` for every touching contact (a pair from its first side) and, with `lookahead`
 /// > 0 [s], every neighbour-list candidate (pair or wall) that closes its gap within it at its
-/// present closing speed: the contacts the bound and the estimate count.
+/// present closing speed: the contacts the bound and the estimate count, on one thread, in the
+/// order NetworkWalk (network_contacts.hpp) gives.
 void visitNetworkContacts(const SimulationState& s, double lookahead,
                           const std::function<void(const NetworkContact&)>& visit);
-/// With `enough`, the sweeps stop as soon as it holds for the bound so far (every sweep's bound
-/// is an upper bound: stopping early only gives away tightness that was not needed).
 /// A network contact's springs and dashpots on its modes (contact_linearisation.hpp), with the
 /// relative rotation's inertia of its bodies.
 LinearContact linearisedContact(const SimulationState& s, const NetworkContact& n,
@@ -42,6 +42,8 @@ LinearContact linearisedContact(const SimulationState& s, const NetworkContact& 
 /// frequencies left 0). Collective in a split run. A pass over the contacts alone: a fraction
 /// of a check's cost.
 NetworkFrequency networkMotion(const SimulationState& s, double lookahead);
+/// With `enough`, the sweeps stop as soon as it holds for the bound so far (every sweep's bound
+/// is an upper bound: stopping early only gives away tightness that was not needed).
 NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, double lookahead,
                                        const std::function<bool(const NetworkFrequency&)>& enough);
 NetworkStep networkStableStep(const SimulationState& s, double lookahead);

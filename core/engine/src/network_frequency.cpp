@@ -95,6 +95,7 @@ struct GainRows {
   std::vector<std::uint32_t> start;
   std::vector<Entry> entries;
 
+  GainRows() = default;
   GainRows(const GainMatrices& m, std::size_t n) : start(n + 1, 0), entries(2 * m.links.size()) {
     for (const GainMatrices::Link& l : m.links) ++start[l.i + 1], ++start[l.j + 1];
     for (std::size_t r = 0; r < n; ++r) start[r + 1] += start[r];
@@ -115,7 +116,8 @@ class PowerBounds {
  public:
   /// The bounds of sweep 0 (Gershgorin's).
   PowerBounds(const GainMatrices& m, const SimulationState& s, int threads)
-      : m_(m), rows_(m, m.diagonal[0].size()), s_(s), threads_(threads) {
+      : m_(m), s_(s), threads_(threads) {
+    if (threads_ > 1) rows_ = GainRows(m, m.diagonal[0].size());
     for (Bound& b : bounds_) {
       b.x.assign(m.diagonal[0].size(), 1.0);
       b.y.assign(m.diagonal[0].size(), 0.0);
@@ -155,21 +157,68 @@ class PowerBounds {
   bool mine(std::size_t i) const { return s_.owned.empty() || s_.owned[i]; }
   /// y = B x for the matrices `which`, then their bounds.
   void measure(std::array<bool, 2> which) {
-    const long n = static_cast<long>(m_.diagonal[0].size());
-#pragma omp parallel for schedule(static) num_threads(threads_)
-    for (long r = 0; r < n; ++r) {
-      for (std::size_t k = 0; k < 2; ++k) {
-        if (!which[k]) continue;
-        Bound& b = bounds_[k];
-        double y = m_.diagonal[k][r] * b.x[r];
-        for (std::uint32_t e = rows_.start[r]; e < rows_.start[r + 1]; ++e) {
-          y += rows_.entries[e].weight[k] * b.x[rows_.entries[e].other];
-        }
-        b.y[r] = y;
-      }
+    if (threads_ <= 1) {
+      linkProducts(which);
+    } else if (which[0] && which[1]) {
+      products<true, true>();
+    } else if (which[0]) {
+      products<true, false>();
+    } else if (which[1]) {
+      products<false, true>();
     }
     for (std::size_t k = 0; k < 2; ++k) {
       if (which[k]) settle(bounds_[k]);
+    }
+  }
+  /// y = B x on one thread: a walk over the links, each added to both its rows (the same terms
+  /// in the same order as a row's product).
+  void linkProducts(std::array<bool, 2> which) {
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!which[k]) continue;
+      Bound& b = bounds_[k];
+      for (std::size_t i = 0; i < b.x.size(); ++i) b.y[i] = m_.diagonal[k][i] * b.x[i];
+    }
+    if (which[0] && which[1]) {
+      Bound &a = bounds_[0], &c = bounds_[1];
+      for (const GainMatrices::Link& l : m_.links) {
+        a.y[l.i] += l.weight[0] * a.x[l.j];
+        a.y[l.j] += l.weight[0] * a.x[l.i];
+        c.y[l.i] += l.weight[1] * c.x[l.j];
+        c.y[l.j] += l.weight[1] * c.x[l.i];
+      }
+      return;
+    }
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!which[k]) continue;
+      Bound& b = bounds_[k];
+      for (const GainMatrices::Link& l : m_.links) {
+        b.y[l.i] += l.weight[k] * b.x[l.j];
+        b.y[l.j] += l.weight[k] * b.x[l.i];
+      }
+    }
+  }
+  /// y = B x of the stiffness (kStiffness) and of the damping (kDamping), row by row: each
+  /// row's two sums run side by side (a row's sum is a chain of additions, which the other
+  /// hides), through local pointers (the rows' stores alias nothing the loop reads).
+  template <bool kStiffness, bool kDamping>
+  void products() {
+    const long n = static_cast<long>(m_.diagonal[0].size());
+    const std::uint32_t* start = rows_.start.data();
+    const GainRows::Entry* entries = rows_.entries.data();
+    const double *d0 = m_.diagonal[0].data(), *d1 = m_.diagonal[1].data();
+    const double *x0 = bounds_[0].x.data(), *x1 = bounds_[1].x.data();
+    double *y0 = bounds_[0].y.data(), *y1 = bounds_[1].y.data();
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (long r = 0; r < n; ++r) {
+      double a = kStiffness ? d0[r] * x0[r] : 0.0;
+      double c = kDamping ? d1[r] * x1[r] : 0.0;
+      for (std::uint32_t e = start[r]; e < start[r + 1]; ++e) {
+        const GainRows::Entry& entry = entries[e];
+        if constexpr (kStiffness) a += entry.weight[0] * x0[entry.other];
+        if constexpr (kDamping) c += entry.weight[1] * x1[entry.other];
+      }
+      if constexpr (kStiffness) y0[r] = a;
+      if constexpr (kDamping) y1[r] = c;
     }
   }
   /// The largest ratio (B x)_i / x_i over the run's particles, kept where it is the smallest
@@ -195,7 +244,7 @@ class PowerBounds {
   }
 
   const GainMatrices& m_;
-  const GainRows rows_;
+  GainRows rows_;  ///< with several threads
   const SimulationState& s_;
   const int threads_;
   std::array<Bound, 2> bounds_;
@@ -283,55 +332,60 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
   const NetworkWalk walk(s, lookahead);
   const ShareOf shareOf(s);
   const int teams = networkThreads(s, s.neighbours.second.size());
-  // The walk's order, its rows on the threads: each part's touching and approaching pairs,
-  // linearised as they are found, into buffers of its own, then added in the parts' order
-  // (the walls, few, on one thread between them). A split run counts a contact on the rank of
-  // its first particle.
-  struct Part {
-    std::vector<ContactShare> touching, approaching;
-    MotionTally tally;
-  };
-  std::vector<Part> parts(static_cast<std::size_t>(teams), Part{{}, {}, MotionTally(s)});
-  if (walk.walksPairs()) {
-#pragma omp parallel num_threads(teams)
-    {
-      const std::size_t t = std::size_t(omp_get_thread_num());
-      const std::size_t used = std::size_t(omp_get_num_threads());
-      Part& part = parts[t];
-      walk.pairs(
-          p.size() * t / used, p.size() * (t + 1) / used,
-          [&](const NetworkContact& n) {
-            part.tally.add(n);
-            part.touching.push_back(shareOf(n));
-          },
-          [&](const NetworkContact& n) {
-            part.tally.add(n);
-            part.approaching.push_back(shareOf(n));
-          });
-    }
-  }
   BoundSums sums(p.size());
   sums.gains.links.reserve(s.neighbours.second.size());
-  MotionTally tally(s);
+  MotionTally tally(s);  // a split run counts a contact on the rank of its first particle
   auto one = [&](const NetworkContact& n) {
     tally.add(n);
     sums.add(shareOf(n));
   };
-  for (const Part& part : parts) {
-    for (const ContactShare& c : part.touching) sums.add(c);
-  }
-  if (walk.geometric()) {
-    walk.touchingWalls(one);
+  if (teams <= 1) {
+    walkNetworkContacts(s, lookahead, one);  // each contact added as the walk finds it
   } else {
-    walk.touchingFromPass(one);
-  }
-  if (walk.ahead()) {
-    for (const Part& part : parts) {
-      for (const ContactShare& c : part.approaching) sums.add(c);
+    // The walk's order, its rows on the threads: each part's touching and approaching pairs,
+    // linearised as they are found, into buffers of its own, then added in the parts' order
+    // (the walls, few, on one thread between them).
+    struct Part {
+      std::vector<ContactShare> touching, approaching;
+      MotionTally tally;
+    };
+    std::vector<Part> parts(static_cast<std::size_t>(teams), Part{{}, {}, MotionTally(s)});
+    if (walk.walksPairs()) {
+#pragma omp parallel num_threads(teams)
+      {
+        const std::size_t t = std::size_t(omp_get_thread_num());
+        const std::size_t used = std::size_t(omp_get_num_threads());
+        const std::size_t begin = p.size() * t / used, end = p.size() * (t + 1) / used;
+        Part& part = parts[t];
+        part.touching.reserve(s.neighbours.rowStart[end] - s.neighbours.rowStart[begin]);
+        walk.pairs(
+            begin, end,
+            [&](const NetworkContact& n) {
+              part.tally.add(n);
+              part.touching.push_back(shareOf(n));
+            },
+            [&](const NetworkContact& n) {
+              part.tally.add(n);
+              part.approaching.push_back(shareOf(n));
+            });
+      }
     }
-    walk.wallCandidates(one);
+    for (const Part& part : parts) {
+      for (const ContactShare& c : part.touching) sums.add(c);
+    }
+    if (walk.geometric()) {
+      walk.touchingWalls(one);
+    } else {
+      walk.touchingFromPass(one);
+    }
+    if (walk.ahead()) {
+      for (const Part& part : parts) {
+        for (const ContactShare& c : part.approaching) sums.add(c);
+      }
+      walk.wallCandidates(one);
+    }
+    for (const Part& part : parts) tally.merge(part.tally);
   }
-  for (const Part& part : parts) tally.merge(part.tally);
 
   NetworkFrequency out;
   tally.fill(out);

@@ -8,7 +8,7 @@
 namespace granular {
 namespace {
 
-// The conditions of the walk one at a time (network_frequency.cpp, walkNetworkContacts), as
+// The conditions of the walk one at a time (network_contacts.hpp, NetworkWalk::pairs), as
 // selects: a pair touches where h = (r_i + r_j) − |d| > 0; it approaches where, with a lookahead,
 // its gap (|d| − r_i) − r_j is positive, its closing speed u = (v·d) / |d| too, and the gap no
 // more than u times the lookahead. Every value is computed for every pair; those that do not
