@@ -76,11 +76,11 @@ TEST(NeighbourRows, RowsAndFirstParticlesConvertBothWaysAndDisorderIsRefused) {
   EXPECT_FALSE(rowsFromFirst(list, r.first, 4)) << "a first particle out of range";
 }
 
-TEST(NeighbourRows, RoundedReferencePositionsNeverHideAMoveOfHalfTheSkin) {
-  // Far from the origin a float is coarse: at 1000 m its spacing is 61 µm. A particle that has
-  // moved by half the skin (after which two particles may have closed the skin between them)
-  // must make the list stale even when the rounding of its reference position points the
-  // same way as the move and so shortens the move measured from it.
+TEST(NeighbourRows, RoundedReferencePositionsNeverHideTwoMovesThatCloseTheSkin) {
+  // Far from the origin a float is coarse: at 1000 m its spacing is 61 µm. Two particles that
+  // have moved by half the skin each (after which they may have closed the skin between them)
+  // must make the list stale even when the rounding of a reference position points the same
+  // way as the move and so shortens the move measured from it.
   const double skin = 1e-4;           // [m]
   const double x0 = 1000.0 + 3.0e-5;  // rounds down to 1000 m: the reference is 30 µm short
   NeighbourList list;
@@ -92,15 +92,22 @@ TEST(NeighbourRows, RoundedReferencePositionsNeverHideAMoveOfHalfTheSkin) {
   ASSERT_EQ(static_cast<double>(list.referencePosition[0].x()), 1000.0);
   ASSERT_GT(list.referenceRounding, 3.0e-5);
   p.position[0].x() -= 0.5 * skin;  // towards the rounded reference: measured as 20 µm only
-  const double measured2 = largestMove2(list, p, 0, p.size());
-  ASSERT_LT(std::sqrt(measured2), 0.5 * skin) << "the test needs a move the rounding shortens";
-  EXPECT_TRUE(neighbourListStale(list, p, {}, measured2));
-  // Near the origin the bound is tiny: the list stays fresh for moves well inside the skin.
+  p.position[1].x() -= 0.5 * skin;
+  const LargestMoves measured = largestMoves(list, p, 0, p.size());
+  ASSERT_LT(std::sqrt(measured.second), 0.5 * skin)
+      << "the test needs a move the rounding shortens";
+  EXPECT_TRUE(neighbourListStale(list, p, {}, measured));
+  // Near the origin the bound is tiny: the list stays fresh for moves well inside the skin,
+  // and for one particle's move of nearly the skin while the other stays.
   p.position = {Vec3(0.25, 0.5, 0.75), Vec3(1.0, 0.5, 0.75)};
   setReferencePositions(list, p.position);
   EXPECT_LT(list.referenceRounding, 2e-7);  // 2⁻²⁴ √3 m
   p.position[0].x() += 0.4 * skin;
-  EXPECT_FALSE(neighbourListStale(list, p, {}, largestMove2(list, p, 0, p.size())));
+  EXPECT_FALSE(neighbourListStale(list, p, {}, largestMoves(list, p, 0, p.size())));
+  p.position[0].x() += 0.5 * skin;
+  EXPECT_FALSE(neighbourListStale(list, p, {}, largestMoves(list, p, 0, p.size())));
+  p.position[1].x() -= 0.1 * skin;  // now they may have closed the skin
+  EXPECT_TRUE(neighbourListStale(list, p, {}, largestMoves(list, p, 0, p.size())));
 }
 
 /// The pairs j > i of each particle within R_i + R_j + margin, by testing every pair.

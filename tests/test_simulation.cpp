@@ -207,6 +207,41 @@ TEST(Simulation, ContactHistorySurvivesNeighbourListRebuilds) {
   EXPECT_EQ(lazy.stateHash(), eager.stateHash());
 }
 
+TEST(Simulation, TheListIsRebuiltWhenTheTwoLargestMovesMayHaveClosedTheSkin) {
+  // Two particles close a gap by at most the sum of their moves, so the list is rebuilt where
+  // the two largest moves since its build may have closed the skin, and no sooner. Two scenes
+  // among spheres at rest: a pair thrown head-on at 4 m/s each from just beyond the list's
+  // reach (rebuilt at half the skin each), and one sphere thrown at a sphere at rest (rebuilt at
+  // the whole skin while it flies alone). Every contact is in the list when it forms: each run
+  // is the very run that rebuilds its list at every step, to the bit.
+  SimulationConfig cfg = frictional(Integrator::VelocityVerlet);
+  cfg.gravity = Vec3::Zero();
+  cfg.timeStep = 2e-6;                                    // [s]
+  cfg.skin = 2e-3;                                        // [m]
+  const double r = 0.01, speed = 4.0, gap = 2e-3 * 1.01;  // [m], [m/s], [m]: beyond the skin
+  const std::uint64_t steps = 3000;                       // 6 ms: 24 mm of flight
+  for (bool headOn : {true, false}) {
+    SCOPED_TRACE(headOn ? "head-on pair" : "one sphere thrown");
+    Particles p;
+    for (int k = 0; k < 5; ++k) p.add(Vec3(0.1 + 0.025 * k, 0.3, 0.1), r, 2500.0);  // at rest
+    p.add(Vec3(0.1, 0.1, 0.1), r, 2500.0, Vec3(speed, 0, 0));
+    const Vec3 other(0.1 + 2 * r + (headOn ? 1 : 5) * gap, 0.1, 0.1);
+    p.add(other, r, 2500.0, headOn ? Vec3(-speed, 0, 0) : Vec3::Zero());
+    Simulation lazy(p, {}, cfg), eager(p, {}, cfg);
+    studies::setRebuildEveryStep(eager, true);
+    lazy.run(steps);
+    eager.run(steps);
+    EXPECT_EQ(lazy.stateHash(), eager.stateHash());
+    // The impact happened: the thrown sphere bounced back, or passed its speed on.
+    EXPECT_LT(lazy.particles().velocity[5].x(), headOn ? 0.0 : 0.5 * speed);
+    EXPECT_GT(lazy.particles().velocity[6].x(), headOn ? 0.0 : 0.5 * speed);
+    // One sphere in flight at a time: a rebuild each 2 mm of its 24 mm (at half the skin: 24).
+    if (!headOn) {
+      EXPECT_LE(lazy.counters().rebuilds, 14u);
+    }
+  }
+}
+
 TEST(Simulation, RestingColumnFloorReactionEqualsWeight) {
   // Five spheres stacked on the floor, released just touching: once the dashpots have damped the
   // motion, the floor carries the whole weight (frictionless, no side walls: exact). The dashpot

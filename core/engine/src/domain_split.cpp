@@ -379,7 +379,7 @@ void splitState(SimulationState& s, std::shared_ptr<const DomainMap> domains,
   // planes against x ± halo.
   s.split.halo = (2.0 * rMax + s.neighbours.skin) * (1.0 + 1e-9);
   // The list stands as built: the partners of a particle are within the reach of where it
-  // was then, and each has moved less than half the skin since.
+  // was then, and the two have moved less than the skin together since.
   const double halo = s.split.halo + reachHalo(s) + s.neighbours.skin;
   const DomainMap& map = *s.split.domains;
   const int me = s.ranks->rank();

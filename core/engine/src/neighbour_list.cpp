@@ -473,29 +473,30 @@ void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& positio
   list.referenceRounding = std::sqrt(3.0) * perCoordinate;
 }
 
-double largestMove2(const NeighbourList& list, const Particles& p, std::size_t begin,
-                    std::size_t end) {
-  if (list.referencePosition.size() != p.size()) return 0.0;  // the list is stale anyway
-  double move2 = 0.0;
+LargestMoves largestMoves(const NeighbourList& list, const Particles& p, std::size_t begin,
+                          std::size_t end, const std::vector<std::uint8_t>* owned) {
+  LargestMoves moves;
+  if (list.referencePosition.size() != p.size()) return moves;  // the list is stale anyway
   for (std::size_t i = begin; i < end; ++i) {
-    move2 =
-        std::max(move2, (p.position[i] - list.referencePosition[i].cast<double>()).squaredNorm());
+    if (owned && !(*owned)[i]) continue;
+    moves.add((p.position[i] - list.referencePosition[i].cast<double>()).squaredNorm());
   }
-  return move2;
+  return moves;
 }
 
 bool neighbourListStale(const NeighbourList& list, const Particles& p,
-                        const std::vector<Wall>& walls, double maxMove2) {
+                        const std::vector<Wall>& walls, const LargestMoves& moves) {
   if (!list.valid || list.referencePosition.size() != p.size() ||
       list.referenceWallPoint.size() != walls.size() ||
       list.referenceWallTravel.size() != walls.size()) {
     return true;
   }
-  // Two particles approach by at most twice the largest displacement; a particle and a wall by
-  // the particle's displacement plus the wall's. Displacements are measured from the rounded
-  // reference positions, so each may be short by their rounding.
-  const double maxMove = std::sqrt(maxMove2) + list.referenceRounding;
-  if (2.0 * maxMove >= list.skin) return true;
+  // Two particles approach by at most the sum of their displacements, at most the two largest;
+  // a particle and a wall by the particle's displacement plus the wall's. Displacements are
+  // measured from the rounded reference positions, so each may be short by their rounding.
+  const double maxMove = std::sqrt(moves.first) + list.referenceRounding;
+  const double nextMove = std::sqrt(moves.second) + list.referenceRounding;
+  if (maxMove + nextMove >= list.skin) return true;
   for (std::size_t w = 0; w < walls.size(); ++w) {
     // A plane's move across itself; a shell's surface travel since the rebuild (moveWall).
     const double wallMove =

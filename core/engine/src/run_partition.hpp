@@ -18,20 +18,23 @@ namespace granular {
 
 class Communicator;
 struct SimulationState;
+struct LargestMoves;
 
 class RunPartition {
  public:
   virtual ~RunPartition() = default;
 
-  /// The largest move² [m²] among the particles [begin, end) since the neighbour list's build,
-  /// measured on the predictor's ranges; 0 where the moves are only known after the prediction
-  /// (largestMoveAfterPrediction).
-  virtual double largestMoveInRange(const SimulationState& s, std::size_t begin,
-                                    std::size_t end) const = 0;
-  /// After the prediction: the largest move² [m²] the staleness test takes, given the largest
-  /// of the ranges' (largestMoveInRange). A split run's ghosts take their owners' predictions
-  /// first, and the move is the whole run's, so that every rank rebuilds when one process would.
-  virtual double largestMoveAfterPrediction(SimulationState& s, double rangesLargest) const = 0;
+  /// The two largest moves² [m²] among the particles [begin, end) since the neighbour list's
+  /// build, measured on the predictor's ranges; none where the moves are only known after the
+  /// prediction (largestMovesAfterPrediction).
+  virtual LargestMoves largestMovesInRange(const SimulationState& s, std::size_t begin,
+                                           std::size_t end) const = 0;
+  /// After the prediction: the two largest moves² [m²] the staleness test takes, given the
+  /// ranges' merged (largestMovesInRange). A split run's ghosts take their owners' predictions
+  /// first, and the moves are the whole run's (each particle once, by its owner), so that every
+  /// rank rebuilds when one process would.
+  virtual LargestMoves largestMovesAfterPrediction(SimulationState& s,
+                                                   const LargestMoves& ranges) const = 0;
   /// Just before the neighbour list's rebuild: a split run's particles go where they now belong.
   virtual void beforeRebuild(SimulationState& s) const = 0;
   /// Just after the rebuild: the values the staleness test and the counters take over the run.

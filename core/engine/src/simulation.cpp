@@ -129,8 +129,8 @@ struct Step {
   /// the calling thread's (a maximum: the same however the particles are cut into ranges), so that
   /// the staleness test needs no pass of its own.
   void measureMoves(std::size_t b, std::size_t e) const {
-    double& largest = s.rangeMove2[static_cast<std::size_t>(omp_get_thread_num())];
-    largest = std::max(largest, s.partition->largestMoveInRange(s, b, e));
+    s.rangeMoves[static_cast<std::size_t>(omp_get_thread_num())].merge(
+        s.partition->largestMovesInRange(s, b, e));
   }
 
   SimulationState& s;
@@ -156,11 +156,11 @@ void reportBrokenState(const SimulationState& s) {
   throw BrokenStateError(msg.str());
 }
 
-/// Pass 1's outcome: whether the predicted values are finite, and the largest move² since the
-/// neighbour list's build that the staleness test takes [m²].
+/// Pass 1's outcome: whether the predicted values are finite, and the two largest moves since
+/// the neighbour list's build that the staleness test takes.
 struct Prediction {
   bool finite = true;
-  double largestMove2 = 0.0;
+  LargestMoves moves;
 };
 
 /// 1. Predict (Gear) or drift (Verlet) translation and, with friction, rotation, in one pass
@@ -173,7 +173,7 @@ Prediction predict(Step& step) {
     out.finite = !s.predictedBroken;
     s.predictedAhead = false;
   } else {
-    s.rangeMove2.assign(step.teams, 0.0);
+    s.rangeMoves.assign(step.teams, LargestMoves{});
     auto predictRange = [&step](std::size_t b, std::size_t e) {
       int notFinite = 0;  // NotFinite bits
       if (step.gear) {
@@ -189,8 +189,9 @@ Prediction predict(Step& step) {
     out.finite =
         (overRanges(s.particles.size(), step.threads, predictRange) & NotFinite::kPredicted) == 0;
   }
-  const double ranges = *std::max_element(s.rangeMove2.begin(), s.rangeMove2.end());
-  out.largestMove2 = s.partition->largestMoveAfterPrediction(s, ranges);
+  LargestMoves ranges;
+  for (const LargestMoves& range : s.rangeMoves) ranges.merge(range);
+  out.moves = s.partition->largestMovesAfterPrediction(s, ranges);
   return out;
 }
 
@@ -203,10 +204,9 @@ void moveWalls(SimulationState& s, double dt) {
 
 /// 3. The neighbour list is rebuilt if particles or walls moved more than the skin allows (or
 /// at every step, where a study asks it). Returns whether it was.
-bool refreshNeighbours(Step& step, double largestMove2) {
+bool refreshNeighbours(Step& step, const LargestMoves& moves) {
   SimulationState& s = step.s;
-  if (!s.rebuildEveryStep &&
-      !neighbourListStale(s.neighbours, s.particles, s.walls, largestMove2)) {
+  if (!s.rebuildEveryStep && !neighbourListStale(s.neighbours, s.particles, s.walls, moves)) {
     return false;
   }
   rebuildList(s);
@@ -223,7 +223,7 @@ void forcesAndCorrect(Step& step, bool predictNext, bool predictedFinite) {
   SimulationState& s = step.s;
   const Particles& p = s.particles;
   const Vec3 g = s.config.gravity;
-  if (predictNext) s.rangeMove2.assign(step.teams, 0.0);  // the next step's moves
+  if (predictNext) s.rangeMoves.assign(step.teams, LargestMoves{});  // the next step's moves
   const ParticleRangeLoop correct = [&](std::size_t b, std::size_t e) {
     // (A rank of a split run may hold no particle: no front() then.)
     const double* accel = s.force.empty() ? nullptr : s.force.front().data();
@@ -302,9 +302,9 @@ void checkStepIfDue(SimulationState& s, StepReview review) {
 /// step checks the step (the check may change Δt).
 void advance(SimulationState& s, bool predictNext) {
   Step step(s);
-  const Prediction predicted = predict(step);                            // 1
-  moveWalls(s, step.dt);                                                 // 2
-  const bool rebuilt = refreshNeighbours(step, predicted.largestMove2);  // 3
+  const Prediction predicted = predict(step);                     // 1
+  moveWalls(s, step.dt);                                          // 2
+  const bool rebuilt = refreshNeighbours(step, predicted.moves);  // 3
   const StepReview review = stepCheckDue(s, rebuilt);
   const bool checking = review != StepReview::None;  // the step may change
   const ContactPowers before = s.powers;

@@ -153,14 +153,35 @@ void setReferencePositions(NeighbourList& list, const std::vector<Vec3>& positio
 void rebuildNeighbourList(NeighbourList& list, const Particles& particles,
                           const std::vector<Wall>& walls, bool keepHistory, double beyond,
                           int threads = 1);
+/// The two largest squared displacements of particles since the list's build [m²], first ≥
+/// second: two particles close a gap by at most the sum of their displacements, so the list
+/// holds every contact that can form while the two largest sum to less than the skin (one
+/// particle thrown through a still bed no longer rebuilds the list at half the skin). Any cut
+/// of the particles into parts, each added and then merged, gives the same two.
+struct LargestMoves {
+  double first = 0.0, second = 0.0;
+  void add(double move2) {
+    if (move2 > first) {
+      second = first;
+      first = move2;
+    } else if (move2 > second) {
+      second = move2;
+    }
+  }
+  void merge(const LargestMoves& other) {
+    add(other.first);
+    add(other.second);
+  }
+};
 /// True when some pair within the list's reach may have come into contact unseen, given the
-/// largest squared displacement of a particle since the build [m²] (largestMove2).
+/// two largest squared displacements of particles since the build (largestMoves).
 bool neighbourListStale(const NeighbourList& list, const Particles& particles,
-                        const std::vector<Wall>& walls, double maxMove2);
-/// The largest squared displacement since the build among the particles [begin, end) [m²]
-/// (0 if the list was built for another particle count: it is stale then anyway).
-double largestMove2(const NeighbourList& list, const Particles& particles, std::size_t begin,
-                    std::size_t end);
+                        const std::vector<Wall>& walls, const LargestMoves& moves);
+/// The two largest squared displacements since the build among the particles [begin, end)
+/// (none if the list was built for another particle count: it is stale then anyway), of those
+/// `owned` marks where it is given (1: this process's).
+LargestMoves largestMoves(const NeighbourList& list, const Particles& particles, std::size_t begin,
+                          std::size_t end, const std::vector<std::uint8_t>* owned = nullptr);
 
 /// Resizes an array whose contents are rewritten before they are read (per-contact scratch),
 /// allocating 1/8 more than asked instead of doubling, and giving memory back when the list
@@ -326,7 +347,7 @@ struct SimulationState {
 
   NeighbourList neighbours;
   ContactScratch contactScratch;
-  std::vector<double> rangeMove2;  ///< per thread of the predictor: its largest move² [m²]
+  std::vector<LargestMoves> rangeMoves;  ///< per thread of the predictor: its largest moves
   /// Simulation::run's steps but the last predict the next step in their corrector's loop: the
   /// state then holds the next step's prediction (never seen outside run) and whether a
   /// predicted position was not finite.

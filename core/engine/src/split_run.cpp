@@ -12,15 +12,27 @@ namespace {
 
 class SplitRun final : public RunPartition {
  public:
-  double largestMoveInRange(const SimulationState&, std::size_t, std::size_t) const override {
+  LargestMoves largestMovesInRange(const SimulationState&, std::size_t,
+                                   std::size_t) const override {
     // The ghosts' predictions are replaced after the prediction, and the moves taken then.
-    return 0.0;
+    return {};
   }
-  double largestMoveAfterPrediction(SimulationState& s, double) const override {
+  LargestMoves largestMovesAfterPrediction(SimulationState& s, const LargestMoves&) const override {
     // The ghosts' predictions came from their own (unforced) derivatives: their owners'
-    // replace them, and the move is taken over true positions and over the ranks.
+    // replace them, and the moves are taken over true positions, each particle by its owner,
+    // then over the ranks: the largest, and the second, which is the largest again where two
+    // ranks hold it (the same two as one process's).
     refreshSplitGhosts(s);
-    return s.ranks->maxOverRanks(largestMove2(s.neighbours, s.particles, 0, s.particles.size()));
+    const LargestMoves mine =
+        largestMoves(s.neighbours, s.particles, 0, s.particles.size(), &s.owned);
+    LargestMoves run;
+    run.first = s.ranks->maxOverRanks(mine.first);
+    std::vector<std::uint64_t> holders{mine.first == run.first ? 1u : 0u};
+    s.ranks->sumOverRanks(holders);
+    run.second = holders[0] > 1
+                     ? run.first
+                     : s.ranks->maxOverRanks(mine.first == run.first ? mine.second : mine.first);
+    return run;
   }
   void beforeRebuild(SimulationState& s) const override {
     // The particles go where they now belong, with their springs; the list is then rebuilt

@@ -11,12 +11,13 @@ namespace {
 
 class WholeRun final : public RunPartition {
  public:
-  double largestMoveInRange(const SimulationState& s, std::size_t begin,
-                            std::size_t end) const override {
-    return largestMove2(s.neighbours, s.particles, begin, end);
+  LargestMoves largestMovesInRange(const SimulationState& s, std::size_t begin,
+                                   std::size_t end) const override {
+    return largestMoves(s.neighbours, s.particles, begin, end);
   }
-  double largestMoveAfterPrediction(SimulationState&, double rangesLargest) const override {
-    return rangesLargest;
+  LargestMoves largestMovesAfterPrediction(SimulationState&,
+                                           const LargestMoves& ranges) const override {
+    return ranges;
   }
   void beforeRebuild(SimulationState&) const override {}
   void afterRebuild(SimulationState&) const override {}
