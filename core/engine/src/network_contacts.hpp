@@ -81,24 +81,16 @@ class NetworkWalk {
   template <class Visit>
   void touchingWalls(Visit&& visit, std::size_t part = 0, std::size_t parts = 1) const {
     const Particles& p = s_.particles;
-    const NeighbourList& list = s_.neighbours;
-    for (std::size_t w = 0; w < list.wallParticles.size() && w < s_.walls.size(); ++w) {
-      const Wall& wall = s_.walls[w];
-      if (wall.removed) continue;
-      const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
-      const std::size_t size = candidates.size();
-      for (std::size_t k = size * part / parts; k < size * (part + 1) / parts; ++k) {
-        const std::uint32_t i = candidates[k];
-        if (i >= p.size()) continue;
-        const WallTouch touch = touchOf(wall, p.position[i]);
-        const double h = p.radius[i] - touch.distance;
-        if (!(h > 0.0)) continue;
-        const Vec3 normal = -touch.normal;  // out of i into the wall
-        const Vec3 point = p.position[i] + (p.radius[i] - 0.5 * h) * normal;  // midway
-        const Vec3 v = p.velocity[i] - wall.velocityAt(point);
-        visit(this->wall(i, normal, v.dot(normal), h, true, v.norm()));
-      }
-    }
+    eachWallCandidate(part, parts, [&](const Wall& wall, std::size_t, std::size_t, std::size_t i) {
+      if (wall.removed) return;
+      const WallTouch touch = touchOf(wall, p.position[i]);
+      const double h = p.radius[i] - touch.distance;
+      if (!(h > 0.0)) return;
+      const Vec3 normal = -touch.normal;  // out of i into the wall
+      const Vec3 point = p.position[i] + (p.radius[i] - 0.5 * h) * normal;  // midway
+      const Vec3 v = p.velocity[i] - wall.velocityAt(point);
+      visit(this->wall(i, normal, v.dot(normal), h, true, v.norm()));
+    });
   }
 
   /// The touching contacts, pairs (from their first side) and walls, as the measuring pass
@@ -111,32 +103,26 @@ class NetworkWalk {
   void wallCandidates(Visit&& visit, std::size_t part = 0, std::size_t parts = 1) const {
     const Particles& p = s_.particles;
     const NeighbourList& list = s_.neighbours;
-    for (std::size_t w = 0; w < list.wallParticles.size() && w < s_.walls.size(); ++w) {
-      const Wall& wall = s_.walls[w];
-      const bool mesh = wall.shape == WallShape::Mesh;
-      const bool binned = mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty();
-      const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
-      const std::size_t size = candidates.size();
-      for (std::size_t k = size * part / parts; k < size * (part + 1) / parts; ++k) {
-        const std::uint32_t i = candidates[k];
-        if (i >= p.size() || (mesh && k % kMeshContacts != 0)) continue;  // a mesh's first entry
-        WallTouch touch;
-        if (binned) {
-          const MeshNearest nearest =
-              nearestOnMesh(wall.mesh->world, wall.mesh->topology, list.meshGrid[w], p.position[i]);
-          touch = {nearest.distance, nearest.normal};
-        } else {
-          touch = touchOf(wall, p.position[i]);
-        }
-        const double gap = touch.distance - p.radius[i];
-        if (!(gap > 0.0)) continue;
-        const Vec3 closest = p.position[i] - touch.distance * touch.normal;
-        const Vec3 v = p.velocity[i] - wall.velocityAt(closest);
-        const double u = -v.dot(touch.normal);
-        if (!(u > 0.0) || gap > u * lookahead_) continue;
-        visit(this->wall(i, -touch.normal, u, 0.0, false, v.norm()));
-      }
-    }
+    eachWallCandidate(
+        part, parts, [&](const Wall& wall, std::size_t w, std::size_t k, std::size_t i) {
+          const bool mesh = wall.shape == WallShape::Mesh;
+          if (mesh && k % kMeshContacts != 0) return;  // a mesh's first entry
+          WallTouch touch;
+          if (mesh && w < list.meshGrid.size() && !list.meshGrid[w].empty()) {
+            const MeshNearest nearest = nearestOnMesh(wall.mesh->world, wall.mesh->topology,
+                                                      list.meshGrid[w], p.position[i]);
+            touch = {nearest.distance, nearest.normal};
+          } else {
+            touch = touchOf(wall, p.position[i]);
+          }
+          const double gap = touch.distance - p.radius[i];
+          if (!(gap > 0.0)) return;
+          const Vec3 closest = p.position[i] - touch.distance * touch.normal;
+          const Vec3 v = p.velocity[i] - wall.velocityAt(closest);
+          const double u = -v.dot(touch.normal);
+          if (!(u > 0.0) || gap > u * lookahead_) return;
+          visit(this->wall(i, -touch.normal, u, 0.0, false, v.norm()));
+        });
   }
 
   /// Pair (i, j) at overlap h [m] (under Hertz's law with the overlap an impact at closing
@@ -148,6 +134,19 @@ class NetworkWalk {
                       double relative) const;
 
  private:
+  /// Calls `visit(wall, w, k, i)` for entry k of each wall w's candidates, particle i, of part
+  /// `part` of `parts` of each wall's list (parts of equal length, in order).
+  template <class Visit>
+  void eachWallCandidate(std::size_t part, std::size_t parts, Visit&& visit) const {
+    const NeighbourList& list = s_.neighbours;
+    for (std::size_t w = 0; w < list.wallParticles.size() && w < s_.walls.size(); ++w) {
+      const std::vector<std::uint32_t>& candidates = list.wallParticles[w];
+      const std::size_t size = candidates.size();
+      for (std::size_t k = size * part / parts; k < size * (part + 1) / parts; ++k) {
+        if (candidates[k] < s_.particles.size()) visit(s_.walls[w], w, k, candidates[k]);
+      }
+    }
+  }
   /// The overlap an impact at closing speed u adds under Hertz's law (Hooke's k_n does not
   /// depend on it): ½ m u² = (2/5) κ √R h^(5/2).
   double impactOverlap(double mass, double reduced, double u) const;
