@@ -352,8 +352,9 @@ void listAnalyticCandidates(const std::vector<Wall>& walls, const Particles& p, 
   }
   for (std::size_t w = 0; w < walls.size(); ++w) {
     for (const std::vector<std::vector<std::uint32_t>>& part : parts) {
-      if (w < part.size())
+      if (w < part.size()) {
         wallParticles[w].insert(wallParticles[w].end(), part[w].begin(), part[w].end());
+      }
     }
   }
 }

@@ -125,9 +125,9 @@ struct Step {
     move = FlatMotion::of(&p.position, p.velocity, s.translation);
     turn = FlatMotion::of(nullptr, p.angularVelocity, s.rotation);
   }
-  /// Folds the largest move of the particles [b, e) since the neighbour list's build into
-  /// the calling thread's (a maximum: the same however the particles are cut into ranges), so that
-  /// the staleness test needs no pass of its own.
+  /// Folds the two largest moves of the particles [b, e) since the neighbour list's build into
+  /// the calling thread's (LargestMoves: the same however the particles are cut into ranges), so
+  /// that the staleness test needs no pass of its own.
   void measureMoves(std::size_t b, std::size_t e) const {
     s.rangeMoves[static_cast<std::size_t>(omp_get_thread_num())].merge(
         s.partition->largestMovesInRange(s, b, e));
