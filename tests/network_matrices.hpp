@@ -2,16 +2,12 @@
 /// The exact spectrum of a bed's linearised contact network, assembled independently of the
 /// engine (dense, Eigen): its mass-weighted stiffness and damping matrices, their largest
 /// eigenvalue, and the spectral radius of one velocity-Verlet or Gear5 step on them. The truth
-/// the step control's bound and estimate are tested against.
+/// the step control's bound and estimate are tested against. The dense work is in
+/// network_matrices.cpp, which the sanitizer builds compile optimised and uninstrumented: it is
+/// the tests' own reference, not code under test, and instrumented it took minutes of CI.
 #include <Eigen/Dense>
-#include <algorithm>
-#include <cmath>
-#include <vector>
 
-#include "granular/contact_theory.hpp"
-#include "granular/network_frequency.hpp"
 #include "granular/simulation.hpp"
-#include "integrators.hpp"
 
 namespace granular::testing {
 
@@ -23,93 +19,22 @@ inline Eigen::Matrix3d crossMatrix(const Vec3& n) {
 }
 
 /// The largest eigenvalue of a symmetric matrix.
-inline double largestEigenvalue(const Eigen::MatrixXd& a) {
-  const Eigen::VectorXd values = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues();
-  return values(values.size() - 1);
-}
+double largestEigenvalue(const Eigen::MatrixXd& a);
 
 /// The linearised network's mass-weighted stiffness matrix A = M^(-1/2) K M^(-1/2) and, with
 /// `damping`, its dashpots' D = M^(-1/2) C M^(-1/2): per contact the stretches (normal;
 /// tangential at the contact point, u_i − u_j + a_i φ_i × n + a_j φ_j × n projected on the
 /// tangent plane; rolling, φ_i − φ_j projected), each weighted by √k (or √c), as a matrix G of
 /// the mass-weighted displacements; A = Σ G^T G.
-inline Eigen::MatrixXd networkMatrix(const Simulation& sim, bool damping) {
-  const Particles& p = sim.particles();
-  const Material& material = sim.config().material;
-  const bool rotations = sim.frictional();
-  const Eigen::Index per = rotations ? 6 : 3, n = static_cast<Eigen::Index>(p.size()) * per;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
-  sim.forEachContact([&](const ContactView& c) {
-    const std::size_t i = c.particle;
-    const bool wall = c.isWall();
-    const std::size_t j = wall ? i : c.otherParticle();
-    if (!wall && j < i) return;
-    const double reduced =
-        wall ? p.radius[i] : p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]);
-    ContactStiffness k = contactStiffness(material, reduced, c.overlap);
-    if (damping) {  // the dashpots' coefficients, as the terms apply them
-      const double mass = wall ? p.mass[i] : p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-      const double ii = 1.4 * p.mass[i] * p.radius[i] * p.radius[i];
-      const double ij = wall ? 0.0 : 1.4 * p.mass[j] * p.radius[j] * p.radius[j];
-      const double inertia = wall ? ii : ii * ij / (ii + ij);
-      const double rolling = 2.0 * material.rollingDamping * std::sqrt(inertia * k.rolling);
-      k = ContactStiffness{material.normalDamping * mass,
-                           k.tangential > 0 ? material.tangentialDamping * mass : 0.0, rolling};
-    }
-    const Eigen::Vector3d nn = c.normal;
-    const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - nn * nn.transpose();
-    const Eigen::Matrix3d cross = crossMatrix(c.normal);
-    // One body's columns of G; `sign` +1 for i, −1 for j (its translation and rolling count
-    // negatively; its rotation moves its contact point as i's does: − a [n]×).
-    auto columns = [&](std::size_t body, double sign) {
-      Eigen::MatrixXd g = Eigen::MatrixXd::Zero(7, per);
-      const double m = p.mass[body], inertia = p.inertia(body);
-      const double arm = p.radius[body] - 0.5 * c.overlap;
-      g.block(0, 0, 1, 3) = sign * std::sqrt(k.normal / m) * nn.transpose();
-      if (rotations) {
-        g.block(1, 0, 3, 3) = sign * std::sqrt(k.tangential / m) * tangent;
-        g.block(1, 3, 3, 3) = -std::sqrt(k.tangential / inertia) * arm * cross;
-        g.block(4, 3, 3, 3) = sign * std::sqrt(k.rolling / inertia) * tangent;
-      }
-      return g;
-    };
-    const Eigen::MatrixXd gi = columns(i, 1.0);
-    const Eigen::Index bi = static_cast<Eigen::Index>(i) * per;
-    a.block(bi, bi, per, per) += gi.transpose() * gi;
-    if (wall) return;
-    const Eigen::MatrixXd gj = columns(j, -1.0);
-    const Eigen::Index bj = static_cast<Eigen::Index>(j) * per;
-    a.block(bj, bj, per, per) += gj.transpose() * gj;
-    a.block(bi, bj, per, per) += gi.transpose() * gj;
-    a.block(bj, bi, per, per) += gj.transpose() * gi;
-  });
-  return a;
-}
+Eigen::MatrixXd networkMatrix(const Simulation& sim, bool damping);
 
 /// The spectral radius of one velocity-Verlet step on the linearised network
 /// y'' = −A y − D y', the dashpots at v + `dashpotLead` Δt a (1: the predicted velocity, the
 /// stricter scheme; ½: the half-step velocity, as the engine has it, physics.md §2.6): the
 /// state (y, v, a) maps linearly, y' = y + Δt v + Δt²/2 a, a' = −A y' − D (v + lead Δt a),
 /// v' = v + Δt/2 (a + a').
-inline double verletStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt,
-                               double dashpotLead = 1.0) {
-  const Eigen::Index n = a.rows();
-  const Eigen::MatrixXd one = Eigen::MatrixXd::Identity(n, n);
-  Eigen::MatrixXd step = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-  // Rows of y', then a' (from y' and the predicted velocity), then v'.
-  const Eigen::MatrixXd yy = one, yv = dt * one, ya = 0.5 * dt * dt * one;
-  const Eigen::MatrixXd ay = -a * yy, av = -a * yv - d, aa = -a * ya - dashpotLead * dt * d;
-  step.block(0, 0, n, n) = yy;
-  step.block(0, n, n, n) = yv;
-  step.block(0, 2 * n, n, n) = ya;
-  step.block(n, 0, n, n) = 0.5 * dt * ay;
-  step.block(n, n, n, n) = one + 0.5 * dt * av;
-  step.block(n, 2 * n, n, n) = 0.5 * dt * (one + aa);
-  step.block(2 * n, 0, n, n) = ay;
-  step.block(2 * n, n, n, n) = av;
-  step.block(2 * n, 2 * n, n, n) = aa;
-  return Eigen::EigenSolver<Eigen::MatrixXd>(step, false).eigenvalues().cwiseAbs().maxCoeff();
-}
+double verletStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt,
+                        double dashpotLead = 1.0);
 
 /// The spectral radius of one Gear5 step on the linearised network y'' = −A y − D y', as the
 /// engine takes it: each unit vector of the state (y and its derivatives to the fifth) stepped
@@ -117,36 +42,9 @@ inline double verletStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& 
 /// predicted y and y' (the dashpots at the predicted velocity). The k-th derivative is taken
 /// × Δt^k, a similarity that leaves the spectrum as it is and the map's entries of one scale
 /// (unscaled they span Δt^±5, beyond what the eigensolver resolves).
-inline double gearStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt) {
-  const Eigen::Index n = a.rows();
-  Eigen::MatrixXd step(6 * n, 6 * n);
-  std::vector<Vec3> y(n), v(n), accel(n);
-  Derivatives z;
-  std::vector<Vec3>* parts[6] = {&y, &v, &z.d2, &z.d3, &z.d4, &z.d5};
-  const double scale[6] = {
-      1.0, dt, dt * dt, dt * dt * dt, dt * dt * dt * dt, dt * dt * dt * dt * dt};
-  Eigen::VectorXd yp(n), vp(n);
-  for (Eigen::Index column = 0; column < 6 * n; ++column) {
-    for (std::vector<Vec3>* part : parts) part->assign(n, Vec3::Zero());
-    (*parts[column / n])[column % n].x() = 1.0 / scale[column / n];
-    Gear5::predict(&y, v, z, dt);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      yp(i) = y[i].x();
-      vp(i) = v[i].x();
-    }
-    const Eigen::VectorXd f = -a * yp - d * vp;
-    for (Eigen::Index i = 0; i < n; ++i) accel[i] = Vec3(f(i), 0, 0);
-    Gear5::correct(&y, v, z, accel, dt);
-    for (int k = 0; k < 6; ++k) {
-      for (Eigen::Index i = 0; i < n; ++i) step(k * n + i, column) = scale[k] * (*parts[k])[i].x();
-    }
-  }
-  return Eigen::EigenSolver<Eigen::MatrixXd>(step, false).eigenvalues().cwiseAbs().maxCoeff();
-}
+double gearStepRadius(const Eigen::MatrixXd& a, const Eigen::MatrixXd& d, double dt);
 
 /// ω_max [rad/s] of the linearised network.
-inline double exactOmegaMax(const Simulation& sim) {
-  return std::sqrt(std::max(largestEigenvalue(networkMatrix(sim, false)), 0.0));
-}
+double exactOmegaMax(const Simulation& sim);
 
 }  // namespace granular::testing
