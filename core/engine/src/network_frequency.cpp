@@ -114,15 +114,15 @@ struct GainRows {
 /// owners' x after each sweep: the bounds and their rows are the same bits as one process's.
 class PowerBounds {
  public:
-  /// The bounds of sweep 0 (Gershgorin's).
+  /// The bounds of sweep 0 (Gershgorin's), on one thread: the sweeps after it on `threads`.
   PowerBounds(const GainMatrices& m, const SimulationState& s, int threads)
       : m_(m), s_(s), threads_(threads) {
-    if (threads_ > 1) rows_ = GainRows(m, m.diagonal[0].size());
     for (Bound& b : bounds_) {
       b.x.assign(m.diagonal[0].size(), 1.0);
       b.y.assign(m.diagonal[0].size(), 0.0);
     }
-    measure({true, true});
+    linkProducts({true, true});
+    for (Bound& b : bounds_) settle(b);
   }
   /// One more sweep of each: x ← B x (scaled), and the bound again; the bound kept is the
   /// smallest. A matrix without gains (B x = 0) keeps its bound.
@@ -157,6 +157,7 @@ class PowerBounds {
   bool mine(std::size_t i) const { return s_.owned.empty() || s_.owned[i]; }
   /// y = B x for the matrices `which`, then their bounds.
   void measure(std::array<bool, 2> which) {
+    if (threads_ > 1 && rows_.start.empty()) rows_ = GainRows(m_, m_.diagonal[0].size());
     if (threads_ <= 1) {
       linkProducts(which);
     } else if (which[0] && which[1]) {
@@ -244,11 +245,14 @@ class PowerBounds {
   }
 
   const GainMatrices& m_;
-  GainRows rows_;  ///< with several threads
+  GainRows rows_;  ///< with several threads, from the first sweep on
   const SimulationState& s_;
   const int threads_;
   std::array<Bound, 2> bounds_;
 };
+
+/// The fewest sweeps a bound makes on threads (PowerBounds): fewer run on one.
+constexpr int kSweepsForThreads = 16;
 
 /// One contact's share of the bound, computed alone (on any thread): its bodies (j = i for a
 /// wall), its gains on each body's springs and dashpots (contactGain), and its least damping
@@ -397,7 +401,12 @@ NetworkFrequency networkFrequencyBound(const SimulationState& s, int sweeps, dou
     out.smallestDampingRatio =
         std::isfinite(least) ? least : NetworkFrequency{}.smallestDampingRatio;
   }
-  PowerBounds bounds(sums.gains, s, networkThreads(s, sums.gains.links.size()));
+  // The rows the threads sweep cost about six sweeps over the links to lay out: on two threads
+  // they pay from some twelve sweeps on, so a check of an automatic step (8 at most) sweeps on
+  // one thread. The same bits on any count.
+  const int sweepThreads =
+      sweeps >= kSweepsForThreads ? networkThreads(s, sums.gains.links.size()) : 1;
+  PowerBounds bounds(sums.gains, s, sweepThreads);
   auto fill = [&] {
     out.omegaMax = std::sqrt(bounds.value(GainMatrices::kStiffness));
     out.particle = bounds.row(GainMatrices::kStiffness);
