@@ -18,10 +18,10 @@ namespace {
 
 /// 400 spheres packed at rest 1.3 mm apart that fall into contact under gravity: contacts form
 /// and the neighbour list is rebuilt within the first few hundred steps.
-Simulation landingBed(Integrator integrator, int threads) {
+Simulation landingBed(Integrator integrator, int threads, double dt = 1.5e-4) {
   SimulationConfig cfg;
   cfg.integrator = integrator;
-  cfg.timeStep = 1.5e-4;
+  cfg.timeStep = dt;
   cfg.material.friction = 0.4;
   cfg.threads = threads;
   BoxSpec box;
@@ -123,6 +123,45 @@ TEST(BatchedSteps, AStageObservesTheSameStatesWhetherOrNotItsStepsAreBatched) {
   const std::vector<std::uint64_t> batched = record(false), single = record(true);
   EXPECT_EQ(batched.size(), 1u + 300u / 7 + 300u / 25 + 1u);  // t = 0, every 7 and 25 steps, end
   EXPECT_EQ(batched, single);
+}
+
+TEST(BatchedSteps, AnAdvanceAskedWhetherToGoOnTakesTheSameStepsAndStopsBetweenTwo) {
+  // advanceTo(t, proceed) asks every kStepsBetweenAsks steps, the step before each ask not
+  // predicting the next: asked and always told to go on, the same bits as advanceTo(t); told to
+  // stop at the third ask, it stops after three times that many steps, short of t, and goes on
+  // to t from there. Gear5 predicts in its corrector: a stop after a predicting step would leave
+  // the predicted state.
+  // A step of 2^-13 s and t = 400 of them: the steps advanceTo lays out are that step exactly.
+  const double dt = 1.0 / 8192.0, t = 400 * dt;  // [s] contacts forming
+  for (Integrator integrator : {Integrator::Gear5, Integrator::VelocityVerlet}) {
+    const std::string what = integrator == Integrator::Gear5 ? "gear5" : "verlet";
+    Simulation plain = landingBed(integrator, 1, dt);
+    plain.advanceTo(t);
+    Simulation asked = landingBed(integrator, 1, dt);
+    int asks = 0;
+    EXPECT_TRUE(asked.advanceTo(t, [&] { return ++asks > 0; })) << what;
+    EXPECT_EQ(asks, int(plain.stepCount() / Simulation::kStepsBetweenAsks)) << what;
+    expectSame(observe(asked), observe(plain), what + ", asked");
+    EXPECT_EQ(asked.time(), t) << what;
+
+    Simulation stopped = landingBed(integrator, 1, dt);
+    asks = 0;
+    EXPECT_FALSE(stopped.advanceTo(t, [&] { return ++asks < 3; })) << what;
+    EXPECT_EQ(stopped.stepCount(), 3 * Simulation::kStepsBetweenAsks) << what;
+    EXPECT_LT(stopped.time(), t) << what;
+    EXPECT_EQ(stopped.config().timeStep, dt) << what;
+    // Stopped after a corrected step: the state of a run of as many steps, which ends
+    // corrected (a predicting step would leave the next step's predicted positions), and one
+    // more step from there is that run's too.
+    Simulation counted = landingBed(integrator, 1, dt);
+    counted.run(3 * Simulation::kStepsBetweenAsks);
+    EXPECT_EQ(stopped.stateHash(), counted.stateHash()) << what;
+    counted.step();
+    stopped.step();
+    EXPECT_EQ(stopped.stateHash(), counted.stateHash()) << what;
+    stopped.advanceTo(t);
+    EXPECT_EQ(stopped.time(), t) << what;
+  }
 }
 
 }  // namespace

@@ -362,6 +362,10 @@ std::uint64_t Simulation::runBefore(std::uint64_t steps, double t) {
 }
 
 void Simulation::advanceTo(double t) {
+  advanceTo(t, nullptr);
+}
+
+bool Simulation::advanceTo(double t, const std::function<bool()>& proceed) {
   SimulationState& s = *state_;
   requireConfig(std::isfinite(t) && t >= clockNow(s) - 1e-9 * targetStep(s),
                 "advance to t = " + shortNumber(t) + " s: must not be before the clock, " +
@@ -369,6 +373,7 @@ void Simulation::advanceTo(double t) {
   const SteppingCall call(s);
   // Landing steps change config.timeStep; the step asked for or chosen is kept apart.
   if (!(s.targetStep > 0.0)) s.targetStep = s.config.timeStep;
+  std::uint64_t sinceAsk = 0;
   for (;;) {
     const double target = targetStep(s);
     const double remaining = t - clockNow(s);
@@ -380,7 +385,17 @@ void Simulation::advanceTo(double t) {
     changeStep(s, remaining / k);
     const std::uint64_t checks = s.counters.stepChecks, rollbacks = s.counters.rollbacks;
     for (std::uint64_t j = 0; j < steps; ++j) {
-      stepOnce(s, j + 1 < steps);
+      // A step after which `proceed` is asked does not predict the next one, so that a stop
+      // leaves the state corrected (the same bits either way, as run() says).
+      const bool ask = proceed && ++sinceAsk >= kStepsBetweenAsks;
+      stepOnce(s, j + 1 < steps && !ask);
+      if (ask) {
+        sinceAsk = 0;
+        if (!proceed()) {
+          changeStep(s, targetStep(s));
+          return false;
+        }
+      }
       // A new choice of step (or a return to an earlier check): the rest of the stretch is
       // laid out again.
       if (s.config.step.automatic &&
@@ -392,6 +407,7 @@ void Simulation::advanceTo(double t) {
   s.timeOrigin = t;
   s.stepsSinceOrigin = 0;
   s.config.timeStep = targetStep(s);
+  return true;
 }
 
 // ---- Accessors ----------------------------------------------------------------------------

@@ -296,6 +296,12 @@ class Simulation {
   /// Δt, the last ones of each stretch between checks shortened alike to land on t; with a fixed
   /// step, in whole steps, the last one shortened. The clock reads t exactly afterwards.
   void advanceTo(double t);
+  /// advanceTo(t), asking `proceed` every kStepsBetweenAsks steps whether to go on; where it
+  /// says no, the run stops there, between two steps, short of t, its state corrected and its
+  /// step the one asked for or chosen (a state that steps on or is saved as any other). Returns
+  /// whether it reached t. For a driver that a user may interrupt (Python's Ctrl-C).
+  bool advanceTo(double t, const std::function<bool()>& proceed);
+  static constexpr std::uint64_t kStepsBetweenAsks = 32;
   /// Advances n steps: the same bits as n calls of step(), faster, as each step but the last
   /// predicts the next one in its corrector's loop (one pass over the integrator's arrays a
   /// step instead of two). Drivers that look at the state only every so often should prefer it.
