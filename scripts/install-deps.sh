@@ -23,6 +23,8 @@ packages=(
   libvtk9-dev
   # runs split among processes (core/parallel): OpenMPI's library and mpirun
   libopenmpi-dev openmpi-bin
+  # the Python module (python/, docs/python.md) and its tests, for Debian's /usr/bin/python3
+  pybind11-dev python3-dev python3-numpy python3-pytest
   # granular-gui (optional window) and its test under a virtual X server
   libimgui-dev libglfw3-dev libstb-dev xvfb xauth
   # sanitizer and fuzzing builds (scripts/ci-sanitizers.sh): clang; its sanitizer and libFuzzer
