@@ -2,9 +2,12 @@
 /// state read as NumPy arrays.
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "bindings.hpp"
